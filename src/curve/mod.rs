@@ -1,0 +1,8 @@
+//! Curve types. Rational cubic Bézier segments are the fitting primitive; polynomial
+//! cubics are what SVG can draw.
+
+pub mod cubic;
+pub mod rational;
+
+pub use cubic::{approximate_with_cubics, CubicBez};
+pub use rational::{bernstein, rational_basis, RationalCubic};

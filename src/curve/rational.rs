@@ -1,0 +1,292 @@
+//! Rational cubic Bézier segments in the standard form of Eq. 1 of the harmony-search
+//! paper: end weights w0 = w3 = 1, inner weights w1, w2 > 0.
+//!
+//! P(u) = Σ B_k(u) w_k C_k / Σ B_k(u) w_k, u ∈ [0, 1], with B_k the cubic Bernstein
+//! polynomials. The module evaluates the curve and its first two derivatives, projects
+//! points onto it (nearest point by a global scan followed by Newton's method), and
+//! subdivides it. Written by hand: no maintained crate offers rational cubics.
+
+use crate::geom::Point;
+use serde::{Deserialize, Serialize};
+
+/// Cubic Bernstein basis values at `u`.
+#[inline]
+pub fn bernstein(u: f64) -> [f64; 4] {
+    let v = 1.0 - u;
+    [v * v * v, 3.0 * u * v * v, 3.0 * u * u * v, u * u * u]
+}
+
+/// First derivatives of the cubic Bernstein basis at `u`.
+#[inline]
+fn bernstein_d1(u: f64) -> [f64; 4] {
+    let v = 1.0 - u;
+    [-3.0 * v * v, 3.0 * v * (1.0 - 3.0 * u), 3.0 * u * (2.0 - 3.0 * u), 3.0 * u * u]
+}
+
+/// Second derivatives of the cubic Bernstein basis at `u`.
+#[inline]
+fn bernstein_d2(u: f64) -> [f64; 4] {
+    [6.0 * (1.0 - u), 18.0 * u - 12.0, 6.0 - 18.0 * u, 6.0 * u]
+}
+
+/// A rational cubic Bézier segment with end weights 1.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RationalCubic {
+    /// Control points C0, C1, C2, C3.
+    pub points: [Point; 4],
+    /// Inner weights w1, w2 (the end weights are 1).
+    pub weights: [f64; 2],
+}
+
+/// Position and derivatives of a curve at one parameter.
+#[derive(Clone, Copy, Debug)]
+pub struct CurveJet {
+    /// P(u).
+    pub point: Point,
+    /// P'(u).
+    pub d1: Point,
+    /// P''(u).
+    pub d2: Point,
+}
+
+impl RationalCubic {
+    /// A segment from control points and inner weights.
+    pub fn new(points: [Point; 4], weights: [f64; 2]) -> Self {
+        RationalCubic { points, weights }
+    }
+
+    /// All four weights (1, w1, w2, 1).
+    #[inline]
+    pub fn all_weights(&self) -> [f64; 4] {
+        [1.0, self.weights[0], self.weights[1], 1.0]
+    }
+
+    /// The rational basis φ_k(u) = B_k(u) w_k / D(u); P(u) = Σ φ_k(u) C_k. The basis sums to 1.
+    #[inline]
+    pub fn rational_basis(&self, u: f64) -> [f64; 4] {
+        rational_basis(self.weights, u)
+    }
+
+    /// P(u).
+    #[inline]
+    pub fn eval(&self, u: f64) -> Point {
+        let phi = self.rational_basis(u);
+        let c = &self.points;
+        c[0] * phi[0] + c[1] * phi[1] + c[2] * phi[2] + c[3] * phi[3]
+    }
+
+    /// P(u), P'(u) and P''(u).
+    pub fn jet(&self, u: f64) -> CurveJet {
+        let w = self.all_weights();
+        let (b0, b1, b2) = (bernstein(u), bernstein_d1(u), bernstein_d2(u));
+        let mut n = [Point::ZERO; 3];
+        let mut d = [0.0; 3];
+        for k in 0..4 {
+            let wc = self.points[k] * w[k];
+            n[0] += wc * b0[k];
+            n[1] += wc * b1[k];
+            n[2] += wc * b2[k];
+            d[0] += w[k] * b0[k];
+            d[1] += w[k] * b1[k];
+            d[2] += w[k] * b2[k];
+        }
+        let p = n[0] / d[0];
+        let p1 = (n[1] - p * d[1]) / d[0];
+        let p2 = (n[2] - p1 * (2.0 * d[1]) - p * d[2]) / d[0];
+        CurveJet { point: p, d1: p1, d2: p2 }
+    }
+
+    /// P'(0) = 3 w1 (C1 − C0).
+    pub fn start_derivative(&self) -> Point {
+        (self.points[1] - self.points[0]) * (3.0 * self.weights[0])
+    }
+
+    /// P'(1) = 3 w2 (C3 − C2).
+    pub fn end_derivative(&self) -> Point {
+        (self.points[3] - self.points[2]) * (3.0 * self.weights[1])
+    }
+
+    /// Unit tangent at the start, or `None` for a degenerate start (C1 = C0).
+    pub fn start_tangent(&self) -> Option<Point> {
+        self.start_derivative().normalized()
+    }
+
+    /// Unit tangent at the end, or `None` for a degenerate end (C2 = C3).
+    pub fn end_tangent(&self) -> Option<Point> {
+        self.end_derivative().normalized()
+    }
+
+    /// True when the segment is a polynomial cubic (w1 = w2 = 1 exactly).
+    pub fn is_polynomial(&self) -> bool {
+        self.weights == [1.0, 1.0]
+    }
+
+    /// Refines a parameter guess `u0` so that P(u) is the point of the curve nearest to `q`
+    /// (Newton's method on (P(u) − q)·P'(u) = 0, clamped to [0, 1], accepting only steps that
+    /// do not increase the distance). Returns `(u, |P(u) − q|)`. Converges to the nearest
+    /// point in the basin of `u0`; use [`RationalCubic::nearest`] for the global nearest point.
+    pub fn refine_projection(&self, q: Point, u0: f64) -> (f64, f64) {
+        let mut u = u0.clamp(0.0, 1.0);
+        let mut jet = self.jet(u);
+        let mut dist2 = (jet.point - q).length_squared();
+        for _ in 0..12 {
+            let r = jet.point - q;
+            let g = r.dot(jet.d1);
+            let h = jet.d1.length_squared() + r.dot(jet.d2);
+            // Fall back to a gradient-like step if the Hessian is not positive.
+            let step = if h > 1e-12 {
+                -g / h
+            } else {
+                -g / jet.d1.length_squared().max(1e-12)
+            };
+            let mut t = 1.0;
+            let mut improved = false;
+            for _ in 0..6 {
+                let un = (u + t * step).clamp(0.0, 1.0);
+                let jn = self.jet(un);
+                let dn = (jn.point - q).length_squared();
+                if dn <= dist2 {
+                    let moved = (un - u).abs();
+                    u = un;
+                    jet = jn;
+                    dist2 = dn;
+                    improved = moved > 0.0;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !improved || step.abs() < 1e-15 {
+                break;
+            }
+        }
+        (u, dist2.sqrt())
+    }
+
+    /// The global nearest point of the curve to `q`: a scan of `samples + 1` evenly spaced
+    /// parameters picks the start, Newton refines it, and both ends are checked.
+    /// Returns `(u, distance)`.
+    pub fn nearest(&self, q: Point, samples: usize) -> (f64, f64) {
+        let samples = samples.max(2);
+        let mut best_u = 0.0;
+        let mut best_d = f64::INFINITY;
+        for j in 0..=samples {
+            let u = j as f64 / samples as f64;
+            let d = (self.eval(u) - q).length_squared();
+            if d < best_d {
+                best_d = d;
+                best_u = u;
+            }
+        }
+        self.refine_projection(q, best_u)
+    }
+
+    /// Splits the segment at parameter `t` into two segments in standard form
+    /// (end weights 1) that together trace the same curve.
+    pub fn split(&self, t: f64) -> (RationalCubic, RationalCubic) {
+        // de Casteljau in homogeneous coordinates (w·x, w·y, w).
+        let w = self.all_weights();
+        let mut h: [(Point, f64); 4] = [(Point::ZERO, 0.0); 4];
+        for k in 0..4 {
+            h[k] = (self.points[k] * w[k], w[k]);
+        }
+        let lerp = |a: (Point, f64), b: (Point, f64)| (a.0.lerp(b.0, t), a.1 + (b.1 - a.1) * t);
+        let a1 = lerp(h[0], h[1]);
+        let a2 = lerp(h[1], h[2]);
+        let a3 = lerp(h[2], h[3]);
+        let b1 = lerp(a1, a2);
+        let b2 = lerp(a2, a3);
+        let c1 = lerp(b1, b2);
+        (
+            from_homogeneous([h[0], a1, b1, c1]),
+            from_homogeneous([c1, b2, a3, h[3]]),
+        )
+    }
+}
+
+/// The rational basis for inner weights `w` at parameter `u`; it sums to 1.
+#[inline]
+pub fn rational_basis(w: [f64; 2], u: f64) -> [f64; 4] {
+    let b = bernstein(u);
+    let nb = [b[0], b[1] * w[0], b[2] * w[1], b[3]];
+    let d = nb[0] + nb[1] + nb[2] + nb[3];
+    [nb[0] / d, nb[1] / d, nb[2] / d, nb[3] / d]
+}
+
+/// Builds a standard-form segment from homogeneous control points with arbitrary positive
+/// weights, by the reparameterisation w_k' = w_k / (w0^((3−k)/3) · w3^(k/3)).
+fn from_homogeneous(h: [(Point, f64); 4]) -> RationalCubic {
+    let w0 = h[0].1;
+    let w3 = h[3].1;
+    let pts = [h[0].0 / w0, h[1].0 / h[1].1, h[2].0 / h[2].1, h[3].0 / w3];
+    let norm = |k: i32, w: f64| w / (w0.powf((3 - k) as f64 / 3.0) * w3.powf(k as f64 / 3.0));
+    RationalCubic::new(pts, [norm(1, h[1].1), norm(2, h[2].1)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> RationalCubic {
+        RationalCubic::new(
+            [
+                Point::new(0.0, 0.0),
+                Point::new(1.0, 3.0),
+                Point::new(4.0, 3.5),
+                Point::new(5.0, 0.5),
+            ],
+            [0.4, 2.2],
+        )
+    }
+
+    #[test]
+    fn basis_sums_to_one_and_ends_interpolate() {
+        let c = sample();
+        for j in 0..=20 {
+            let phi = c.rational_basis(j as f64 / 20.0);
+            assert!((phi.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        }
+        assert_eq!(c.eval(0.0), c.points[0]);
+        assert!(c.eval(1.0).distance(c.points[3]) < 1e-15);
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let c = sample();
+        let h = 1e-6;
+        for &u in &[0.1, 0.37, 0.8] {
+            let j = c.jet(u);
+            let fd1 = (c.eval(u + h) - c.eval(u - h)) / (2.0 * h);
+            let fd2 = (c.eval(u + h) - j.point * 2.0 + c.eval(u - h)) / (h * h);
+            assert!((j.d1 - fd1).length() < 1e-7, "{:?} {:?}", j.d1, fd1);
+            assert!((j.d2 - fd2).length() < 1e-3, "{:?} {:?}", j.d2, fd2);
+        }
+        assert!((c.jet(0.0).d1 - c.start_derivative()).length() < 1e-12);
+        assert!((c.jet(1.0).d1 - c.end_derivative()).length() < 1e-12);
+    }
+
+    #[test]
+    fn projection_recovers_parameter_of_on_curve_point() {
+        let c = sample();
+        for &u in &[0.05, 0.5, 0.93] {
+            let q = c.eval(u) + c.jet(u).d1.perp().normalized().unwrap() * 0.05;
+            let (uu, d) = c.nearest(q, 32);
+            assert!((uu - u).abs() < 1e-9, "{uu} vs {u}");
+            assert!((d - 0.05).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn split_halves_trace_the_same_curve() {
+        let c = sample();
+        let (a, b) = c.split(0.3);
+        for j in 0..=10 {
+            let s = j as f64 / 10.0;
+            let pa = a.eval(s);
+            let pb = b.eval(s);
+            assert!(c.nearest(pa, 64).1 < 1e-12);
+            assert!(c.nearest(pb, 64).1 < 1e-12);
+        }
+        assert!(a.eval(1.0).distance(c.eval(0.3)) < 1e-12);
+        assert!(b.eval(0.0).distance(c.eval(0.3)) < 1e-12);
+    }
+}

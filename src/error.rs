@@ -1,0 +1,75 @@
+//! The library's error type. Every failure a user can cause (a missing or undecodable
+//! file, an empty or oversized image, an unwritable output) is a variant here; the binary
+//! prints it as one line.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while tracing.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The input file could not be read.
+    #[error("cannot read {}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The input is not an image `image` can decode (or it is truncated).
+    #[error("{}: not a readable image: {source}", path.display())]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// The decoder's error.
+        #[source]
+        source: image::ImageError,
+    },
+    /// The image has no pixels.
+    #[error("the image has zero size ({width}×{height})")]
+    ZeroSize {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+    },
+    /// The image has more pixels than allowed.
+    #[error("the image is {width}×{height} = {pixels} pixels, more than the limit of {limit} (raise --max-pixels)")]
+    TooLarge {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+        /// width × height.
+        pixels: u64,
+        /// The configured limit.
+        limit: u64,
+    },
+    /// Nothing was found to trace: every pixel is background, or every shape is smaller than
+    /// the speck size.
+    #[error("no shape found: the image is all background at threshold {threshold:.3} (try --invert or --threshold)")]
+    NoForeground {
+        /// The coverage threshold that was used, in [0, 1].
+        threshold: f64,
+    },
+    /// An output could not be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// An option has a value outside its domain.
+    #[error("invalid option {name}: {message}")]
+    InvalidOption {
+        /// The option's name as the user writes it, e.g. `--tolerance`.
+        name: &'static str,
+        /// What is wrong with it.
+        message: String,
+    },
+}
+
+/// Shorthand for results whose error is [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

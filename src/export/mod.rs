@@ -1,0 +1,1 @@
+//! Writers for the traced outline (placeholder: being written by a helper).

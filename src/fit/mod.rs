@@ -1,0 +1,105 @@
+//! Fitting: one G1-continuous chain of rational cubic segments per contour.
+//!
+//! Two strategies share the data types here: [`lsq`] (the default; separable least
+//! squares with exact G1 at every smooth joint and error-driven splitting) and [`paper`]
+//! (the harmony-search scheme of the HS paper, §6).
+
+pub mod lsq;
+pub mod paper;
+pub mod solve;
+
+use crate::curve::RationalCubic;
+use crate::geom::Point;
+use serde::{Deserialize, Serialize};
+
+/// How two neighbouring segments meet.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointKind {
+    /// Tangent discontinuity (G0 only), found as a corner of the outline.
+    Corner,
+    /// Shared unit tangent (G1).
+    Smooth,
+}
+
+/// The meeting point of segment `i − 1` and segment `i` of a contour.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Joint {
+    /// Corner or smooth.
+    pub kind: JointKind,
+    /// Position (the shared end point).
+    pub position: Point,
+    /// Index of the joint in the contour's point list.
+    pub index: usize,
+    /// Angle in radians between the end tangent of the previous segment and the start
+    /// tangent of the next one (0 for a perfect G1 joint).
+    pub angle: f64,
+    /// β of Eq. 8 of the HS paper: |P'(u⁺)| / |P'(u⁻)|.
+    pub beta: f64,
+}
+
+/// Error measures of one fitted segment against its data points.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct SegmentError {
+    /// Eq. 4 of the HS paper: Σ |P(u_i) − Q_i|² at the segment's final parameters.
+    pub sum_sq: f64,
+    /// sqrt(sum_sq / n).
+    pub rmse: f64,
+    /// Largest distance from a data point to the curve, by projection onto the curve.
+    pub max_distance: f64,
+    /// Mean distance from the data points to the curve, by projection.
+    pub mean_distance: f64,
+}
+
+/// One fitted segment.
+#[derive(Clone, Debug, Serialize)]
+pub struct FittedSegment {
+    /// The curve.
+    pub curve: RationalCubic,
+    /// Index of the first data point (the start joint) in the contour's point list.
+    pub start: usize,
+    /// Index of the last data point (the end joint); smaller than `start` when the segment
+    /// wraps past the end of the list.
+    pub end: usize,
+    /// Number of data points fitted, both end points included.
+    pub point_count: usize,
+    /// Parameter of each data point on the curve, in [0, 1] (centripetal, Eq. 2–3, then
+    /// refined by projection when the strategy does so).
+    pub params: Vec<f64>,
+    /// Arc-length position of the start and end along the contour polygon, in pixels.
+    pub arc_range: [f64; 2],
+    /// Error measures.
+    pub error: SegmentError,
+    /// Objective evaluations spent on this segment.
+    pub evaluations: u64,
+    /// Wall time spent fitting this segment, in seconds (0 when timing is off).
+    pub seconds: f64,
+}
+
+/// A closed contour fitted by a closed chain of segments.
+#[derive(Clone, Debug, Serialize)]
+pub struct FittedContour {
+    /// The data points that were fitted (sub-pixel boundary points, with break points
+    /// inserted where they fall between samples).
+    pub points: Vec<Point>,
+    /// True for the border of a hole.
+    pub is_hole: bool,
+    /// Index of the enclosing contour, as in [`crate::contour::Contour::parent`].
+    pub parent: Option<usize>,
+    /// Segments in order; segment i runs from joint i to joint i + 1 (cyclically).
+    pub segments: Vec<FittedSegment>,
+    /// `joints[i]` is where `segments[i − 1]` ends and `segments[i]` starts.
+    pub joints: Vec<Joint>,
+}
+
+impl FittedContour {
+    /// Largest point-to-curve distance over all segments.
+    pub fn max_distance(&self) -> f64 {
+        self.segments.iter().map(|s| s.error.max_distance).fold(0.0, f64::max)
+    }
+
+    /// Sum of Eq. 4 errors over all segments.
+    pub fn sum_sq(&self) -> f64 {
+        self.segments.iter().map(|s| s.error.sum_sq).sum()
+    }
+}

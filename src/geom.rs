@@ -1,0 +1,190 @@
+//! Plane geometry primitives shared by every stage: a 2-D point/vector type and a few
+//! helpers on polylines.
+//!
+//! Coordinates are in input-image pixel units with the SVG convention: x to the right,
+//! y downwards, and pixel (c, r) covers the square [c, c+1] × [r, r+1], so its centre is
+//! (c + 0.5, r + 0.5).
+
+use serde::{Deserialize, Serialize};
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
+
+/// A point or a vector in the plane.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Point {
+    /// Horizontal coordinate, pixels to the right.
+    pub x: f64,
+    /// Vertical coordinate, pixels downwards.
+    pub y: f64,
+}
+
+impl Point {
+    /// The origin.
+    pub const ZERO: Point = Point { x: 0.0, y: 0.0 };
+
+    /// Creates a point from its coordinates.
+    #[inline]
+    pub const fn new(x: f64, y: f64) -> Self {
+        Point { x, y }
+    }
+
+    /// Dot product.
+    #[inline]
+    pub fn dot(self, o: Point) -> f64 {
+        self.x * o.x + self.y * o.y
+    }
+
+    /// z-component of the cross product (positive when `o` turns clockwise on screen,
+    /// i.e. counter-clockwise in y-up axes).
+    #[inline]
+    pub fn cross(self, o: Point) -> f64 {
+        self.x * o.y - self.y * o.x
+    }
+
+    /// Euclidean length.
+    #[inline]
+    pub fn length(self) -> f64 {
+        self.x.hypot(self.y)
+    }
+
+    /// Squared Euclidean length.
+    #[inline]
+    pub fn length_squared(self) -> f64 {
+        self.x * self.x + self.y * self.y
+    }
+
+    /// Distance to another point.
+    #[inline]
+    pub fn distance(self, o: Point) -> f64 {
+        (self - o).length()
+    }
+
+    /// The vector scaled to unit length, or `None` if its length is zero or not finite.
+    #[inline]
+    pub fn normalized(self) -> Option<Point> {
+        let l = self.length();
+        (l > 0.0 && l.is_finite()).then(|| self / l)
+    }
+
+    /// The vector rotated by +90° (from +x towards +y).
+    #[inline]
+    pub fn perp(self) -> Point {
+        Point::new(-self.y, self.x)
+    }
+
+    /// Linear interpolation: `self` at t = 0, `o` at t = 1.
+    #[inline]
+    pub fn lerp(self, o: Point, t: f64) -> Point {
+        self + (o - self) * t
+    }
+
+    /// True when both coordinates are finite.
+    #[inline]
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite()
+    }
+}
+
+impl Add for Point {
+    type Output = Point;
+    #[inline]
+    fn add(self, o: Point) -> Point {
+        Point::new(self.x + o.x, self.y + o.y)
+    }
+}
+impl AddAssign for Point {
+    #[inline]
+    fn add_assign(&mut self, o: Point) {
+        self.x += o.x;
+        self.y += o.y;
+    }
+}
+impl Sub for Point {
+    type Output = Point;
+    #[inline]
+    fn sub(self, o: Point) -> Point {
+        Point::new(self.x - o.x, self.y - o.y)
+    }
+}
+impl SubAssign for Point {
+    #[inline]
+    fn sub_assign(&mut self, o: Point) {
+        self.x -= o.x;
+        self.y -= o.y;
+    }
+}
+impl Mul<f64> for Point {
+    type Output = Point;
+    #[inline]
+    fn mul(self, s: f64) -> Point {
+        Point::new(self.x * s, self.y * s)
+    }
+}
+impl Div<f64> for Point {
+    type Output = Point;
+    #[inline]
+    fn div(self, s: f64) -> Point {
+        Point::new(self.x / s, self.y / s)
+    }
+}
+impl Neg for Point {
+    type Output = Point;
+    #[inline]
+    fn neg(self) -> Point {
+        Point::new(-self.x, -self.y)
+    }
+}
+
+/// Signed area of a closed polygon by the shoelace formula, in the image frame
+/// (y down): positive for loops that run clockwise on screen.
+pub fn signed_area(points: &[Point]) -> f64 {
+    let n = points.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let mut acc = 0.0;
+    for i in 0..n {
+        let a = points[i];
+        let b = points[(i + 1) % n];
+        acc += a.cross(b);
+    }
+    0.5 * acc
+}
+
+/// Angle in radians, in [0, π], between two non-zero vectors; 0 for a zero vector.
+pub fn angle_between(a: Point, b: Point) -> f64 {
+    let la = a.length();
+    let lb = b.length();
+    if la == 0.0 || lb == 0.0 {
+        return 0.0;
+    }
+    // atan2 of cross and dot is accurate for tiny angles, unlike acos of the dot.
+    a.cross(b).abs().atan2(a.dot(b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shoelace_of_unit_square_is_one_clockwise_on_screen() {
+        // (0,0) → (1,0) → (1,1) → (0,1) runs clockwise on a y-down screen.
+        let sq = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(1.0, 1.0),
+            Point::new(0.0, 1.0),
+        ];
+        assert_eq!(signed_area(&sq), 1.0);
+        let rev: Vec<Point> = sq.iter().rev().copied().collect();
+        assert_eq!(signed_area(&rev), -1.0);
+    }
+
+    #[test]
+    fn tiny_angles_are_resolved() {
+        let a = Point::new(1.0, 0.0);
+        let b = Point::new(1.0, 1e-12);
+        let ang = angle_between(a, b);
+        assert!((ang - 1e-12).abs() < 1e-20, "{ang}");
+        assert!((angle_between(a, -a) - std::f64::consts::PI).abs() < 1e-15);
+    }
+}

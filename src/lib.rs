@@ -1,0 +1,237 @@
+//! # outlinefit
+//!
+//! Traces bitmap outlines (letters, logos, silhouettes) into closed chains of
+//! G1-continuous rational cubic Bézier segments and reports, segment by segment, how well
+//! each one fits its data.
+//!
+//! The pipeline is a chain of plain functions, one module per stage:
+//!
+//! ```text
+//! image ─► raster::load ─► contour::extract_contours ─► breaks::find_breaks ─► fit ─► export
+//!          Bitmap           Vec<Contour>                 Vec<SegmentedContour>   Vec<FittedContour>
+//! ```
+//!
+//! [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`].
+
+pub mod breaks;
+pub mod contour;
+pub mod curve;
+pub mod error;
+pub mod export;
+pub mod fit;
+pub mod geom;
+pub mod io;
+pub mod optim;
+pub mod param;
+pub mod raster;
+
+pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
+pub use crate::contour::{extract_contours, Contour, ContourOptions};
+pub use crate::curve::{CubicBez, RationalCubic};
+pub use crate::error::{Error, Result};
+pub use crate::fit::{FittedContour, FittedSegment, Joint, JointKind, SegmentError};
+pub use crate::geom::Point;
+pub use crate::raster::{Bitmap, RasterOptions};
+
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// The version of this crate, recorded in reports.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// How segments are fitted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Strategy {
+    /// Separable least squares with exact G1 joints, error-driven splitting and merging.
+    #[default]
+    Lsq,
+    /// The HS paper's scheme: harmony search over C1, C2, w1, w2 in the box of Eq. 9,
+    /// odd segments free, even segments constrained for G1 (§6.1–6.3).
+    Hs,
+}
+
+/// Every parameter of a trace. `Config::default()` gives the documented defaults.
+#[derive(Clone, Debug, Serialize)]
+pub struct Config {
+    /// Coverage threshold on the 0–255 scale (foreground when coverage ≥ threshold).
+    /// Default: `None`, Otsu's threshold of the image.
+    pub threshold: Option<u8>,
+    /// Treat light shapes on a dark background as the foreground. Default: false.
+    pub invert: bool,
+    /// Largest image accepted, in pixels (width × height). Default: 50 000 000, about
+    /// 250 MB of working memory at worst.
+    pub max_pixels: u64,
+    /// Shapes and holes with a smaller area (px²) are dropped as specks. Default: 2.0,
+    /// like potrace's turdsize.
+    pub min_area: f64,
+    /// A turning angle above this (degrees) makes a corner (G0 joint). Default: 50.
+    pub corner_angle: f64,
+    /// Largest allowed distance (px) from a data point to its fitted curve, for `lsq`.
+    /// Default: 0.4.
+    pub tolerance: f64,
+    /// The fitting strategy. Default: `lsq`.
+    pub strategy: Strategy,
+    /// Harmony-search improvisations per segment (`hs` only). Default: 5000.
+    pub budget: u64,
+    /// Seed of every random choice. Default: 1.
+    pub seed: u64,
+    /// Record wall times in the result (they are the only non-reproducible numbers).
+    /// Default: true.
+    pub timings: bool,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            threshold: None,
+            invert: false,
+            max_pixels: 50_000_000,
+            min_area: 2.0,
+            corner_angle: 50.0,
+            tolerance: 0.4,
+            strategy: Strategy::Lsq,
+            budget: 5000,
+            seed: 1,
+            timings: true,
+        }
+    }
+}
+
+impl Config {
+    /// Checks every value against its domain.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, message: &str| {
+            Err(Error::InvalidOption {
+                name,
+                message: message.to_string(),
+            })
+        };
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return bad("--tolerance", "must be a positive number of pixels");
+        }
+        if !(self.corner_angle.is_finite() && self.corner_angle > 0.0 && self.corner_angle < 180.0) {
+            return bad("--corner-angle", "must be between 0 and 180 degrees");
+        }
+        if !(self.min_area.is_finite() && self.min_area >= 0.0) {
+            return bad("--min-area", "must be a non-negative area in px²");
+        }
+        if self.max_pixels == 0 {
+            return bad("--max-pixels", "must be at least 1");
+        }
+        if self.budget == 0 {
+            return bad("--budget", "must be at least 1");
+        }
+        Ok(())
+    }
+
+    fn raster_options(&self) -> RasterOptions {
+        RasterOptions {
+            threshold: self.threshold,
+            invert: self.invert,
+            max_pixels: self.max_pixels,
+        }
+    }
+}
+
+/// Facts about the input that the tracer detected.
+#[derive(Clone, Debug, Serialize)]
+pub struct ImageInfo {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The coverage threshold used, in [0, 1].
+    pub threshold: f64,
+    /// True when the image has (almost) no grey levels at its edges, so the outline was
+    /// smoothed instead of refined to sub-pixel positions.
+    pub bilevel: bool,
+    /// True when the shape came from the alpha channel.
+    pub from_alpha: bool,
+    /// True when most of the image border is foreground: the polarity is probably wrong.
+    pub dark_border: bool,
+}
+
+/// The outcome of tracing one image.
+#[derive(Clone, Debug, Serialize)]
+pub struct TraceResult {
+    /// What was detected about the input.
+    pub image: ImageInfo,
+    /// The fitted contours.
+    pub contours: Vec<FittedContour>,
+    /// Wall time of the whole trace, in seconds (0 when timing is off).
+    pub seconds: f64,
+}
+
+impl TraceResult {
+    /// Total number of segments.
+    pub fn segment_count(&self) -> usize {
+        self.contours.iter().map(|c| c.segments.len()).sum()
+    }
+
+    /// Sum of Eq. 4 errors over every segment.
+    pub fn sum_sq(&self) -> f64 {
+        self.contours.iter().map(FittedContour::sum_sq).sum()
+    }
+
+    /// Largest point-to-curve distance over every segment.
+    pub fn max_distance(&self) -> f64 {
+        self.contours.iter().map(FittedContour::max_distance).fold(0.0, f64::max)
+    }
+}
+
+/// Loads an image file and traces it.
+pub fn trace_file(path: &Path, config: &Config) -> Result<TraceResult> {
+    config.validate()?;
+    let bitmap = raster::load(path, &config.raster_options())?;
+    trace_bitmap(&bitmap, config)
+}
+
+/// Traces an already loaded bitmap.
+pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
+    config.validate()?;
+    let started = Instant::now();
+    let contours = extract_contours(
+        bitmap,
+        &ContourOptions {
+            min_area: config.min_area,
+        },
+    )?;
+    if contours.is_empty() {
+        return Err(Error::NoForeground {
+            threshold: bitmap.threshold(),
+        });
+    }
+    let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
+    let fitted: Vec<FittedContour> = contours
+        .iter()
+        .map(|c| {
+            let seg = find_breaks(c, &break_options);
+            match config.strategy {
+                Strategy::Lsq => fit::lsq::fit_contour(&seg, &fit::lsq::LsqOptions::new(config)),
+                Strategy::Hs => fit::paper::fit_contour(
+                    &fit::lsq::fit_contour(&seg, &fit::lsq::LsqOptions::new(config)),
+                    &fit::paper::PaperOptions::new(config),
+                ),
+            }
+        })
+        .collect();
+    let seconds = if config.timings {
+        started.elapsed().as_secs_f64()
+    } else {
+        0.0
+    };
+    Ok(TraceResult {
+        image: ImageInfo {
+            width: bitmap.width,
+            height: bitmap.height,
+            threshold: bitmap.threshold(),
+            bilevel: bitmap.is_bilevel(),
+            from_alpha: bitmap.from_alpha(),
+            dark_border: bitmap.dark_border(),
+        },
+        contours: fitted,
+        seconds,
+    })
+}
