@@ -1,66 +1,782 @@
-//! Loading images into a coverage field (placeholder: being written by a helper).
+//! Loading images into a foreground *coverage field*: the first stage of the pipeline.
+//!
+//! This module owns everything between an image file and a [`Bitmap`]: decoding (any format
+//! the `image` crate reads, recognised by content rather than by file name), the size
+//! limits, the choice between the alpha channel and the luminance as the shape, polarity
+//! (`invert`), the threshold (fixed or Otsu's) and two facts the later stages need: whether
+//! the image is *bilevel* (no grey levels at its edges, so sub-pixel refinement cannot work)
+//! and whether its border is mostly foreground (the polarity is probably wrong).
+//!
+//! Coverage is a number per pixel in [0, 1]: 1 is foreground (ink), 0 background (paper).
+//!
+//! * When the image has an alpha channel that is not fully opaque everywhere, the shape
+//!   **is** the alpha: coverage = alpha. Colour is ignored, so a white logo on a transparent
+//!   background traces the same as a black one (the tempting alpha × (1 − luma) would make
+//!   white logos vanish). `invert` then traces the transparent part.
+//! * Otherwise coverage = 1 − luma (dark shapes on a light background), and `invert` makes it
+//!   luma (light shapes on dark).
+//!
+//! Conversion goes through 32-bit floats, so 16-bit images keep their precision.
+//!
+//! The threshold (foreground ⇔ coverage ≥ threshold) only decides the *topology* of the
+//! outlines; where the image has grey levels, `contour` places the edges by integrating the
+//! coverage, which does not depend on the threshold. Otsu's level is computed on a
+//! 256-bin histogram and clamped to [0.2, 0.8]: for an anti-aliased (area-coverage) image the
+//! true edge is at 0.5 and Otsu's level can wander far from it when the histogram is almost
+//! all 0s and 1s, and a nearly empty image gives a meaningless level. When several levels are
+//! equally good (a bilevel image has a whole empty range between its two levels) the middle
+//! of that range is taken, so a 0/255 image gets exactly 0.5.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geom::Point;
+use image::{DynamicImage, GenericImageView, GrayImage, ImageDecoder, ImageReader, Limits};
+use std::fs::File;
+use std::io::BufReader;
 use std::path::Path;
+
+/// Lowest threshold Otsu's method may choose, on the [0, 1] coverage scale.
+const OTSU_MIN: f64 = 0.2;
+/// Highest threshold Otsu's method may choose, on the [0, 1] coverage scale.
+const OTSU_MAX: f64 = 0.8;
+/// Coverage strictly between `GREY_LO` and `GREY_HI` counts as a grey level.
+const GREY_LO: f32 = 0.05;
+/// See [`GREY_LO`].
+const GREY_HI: f32 = 0.95;
+/// An image is bilevel when fewer than this fraction of its edge pixels are grey.
+const BILEVEL_GREY_FRACTION: f64 = 0.05;
+/// Bytes per pixel budgeted for the decoder (RGBA with 32-bit float channels).
+const DECODE_BYTES_PER_PIXEL: u64 = 16;
+/// Extra decoder working memory allowed on top of the pixel buffer.
+const DECODE_SLACK_BYTES: u64 = 64 << 20;
 
 /// Options for turning an image into foreground coverage.
 #[derive(Clone, Debug)]
 pub struct RasterOptions {
-    /// Fixed threshold on coverage (0–255 scale); `None` = Otsu.
+    /// Fixed threshold on the 0–255 coverage scale: a pixel is foreground when its coverage
+    /// is at least `threshold / 255`. Default: `None`, Otsu's level clamped to [0.2, 0.8].
     pub threshold: Option<u8>,
-    /// Treat light-on-dark as foreground.
+    /// Trace light shapes on a dark background (or, with alpha, the transparent part).
+    /// Default: false.
     pub invert: bool,
-    /// Largest accepted width × height.
+    /// Largest accepted width × height, checked from the file header before any pixel is
+    /// decoded. Default (in [`crate::Config`]): 50 000 000.
     pub max_pixels: u64,
 }
 
-/// Foreground coverage of an image.
+/// Foreground coverage of an image, with the threshold and the facts detected about it.
+///
+/// Construct it with [`load`], [`from_image`] or [`Bitmap::from_coverage`].
 #[derive(Clone, Debug)]
 pub struct Bitmap {
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
+    /// Row-major coverage, 1.0 = foreground, 0.0 = background.
     coverage: Vec<f32>,
+    /// Foreground ⇔ coverage ≥ threshold; in [0, 1].
     threshold: f64,
+    /// True when (almost) no edge pixel has a grey level.
+    bilevel: bool,
+    /// True when the coverage is the alpha channel.
+    from_alpha: bool,
+    /// True when most of the outermost ring of pixels is foreground.
+    dark_border: bool,
 }
 
 impl Bitmap {
-    /// Builds a bitmap from a row-major coverage field (1 = foreground).
-    pub fn from_coverage(width: u32, height: u32, coverage: Vec<f32>, threshold: Option<f64>) -> Result<Bitmap> {
-        Ok(Bitmap { width, height, coverage, threshold: threshold.unwrap_or(0.5) })
+    /// Builds a bitmap from a row-major coverage field (1 = foreground, 0 = background).
+    ///
+    /// Values are clamped to [0, 1] and NaN counts as background. `threshold` is on the
+    /// [0, 1] scale; `None` chooses Otsu's level (see the module docs). Detects
+    /// [`is_bilevel`](Self::is_bilevel) and [`dark_border`](Self::dark_border).
+    ///
+    /// Errors: [`Error::ZeroSize`] when a dimension is 0; [`Error::InvalidOption`] when the
+    /// length of `coverage` is not `width × height` or the threshold is outside [0, 1].
+    pub fn from_coverage(
+        width: u32,
+        height: u32,
+        coverage: Vec<f32>,
+        threshold: Option<f64>,
+    ) -> Result<Bitmap> {
+        Bitmap::build(width, height, coverage, threshold, false)
     }
-    /// Coverage of pixel (col, row), 0 outside the image.
+
+    fn build(
+        width: u32,
+        height: u32,
+        mut coverage: Vec<f32>,
+        threshold: Option<f64>,
+        from_alpha: bool,
+    ) -> Result<Bitmap> {
+        if width == 0 || height == 0 {
+            return Err(Error::ZeroSize { width, height });
+        }
+        let expected = u64::from(width) * u64::from(height);
+        if coverage.len() as u64 != expected {
+            return Err(Error::InvalidOption {
+                name: "coverage",
+                message: format!(
+                    "{} values given for a {width}×{height} image ({expected} expected)",
+                    coverage.len()
+                ),
+            });
+        }
+        if let Some(t) = threshold {
+            if !(0.0..=1.0).contains(&t) {
+                return Err(Error::InvalidOption {
+                    name: "--threshold",
+                    message: format!("{t} is outside [0, 1]"),
+                });
+            }
+        }
+        for v in &mut coverage {
+            // `!(v >= 0)` also catches NaN.
+            *v = if *v >= 0.0 { v.min(1.0) } else { 0.0 };
+        }
+        let threshold = threshold.unwrap_or_else(|| otsu_threshold(&coverage));
+        let mut bitmap = Bitmap {
+            width,
+            height,
+            coverage,
+            threshold,
+            bilevel: false,
+            from_alpha,
+            dark_border: false,
+        };
+        bitmap.bilevel = bitmap.detect_bilevel();
+        bitmap.dark_border = bitmap.detect_dark_border();
+        Ok(bitmap)
+    }
+
+    /// The row-major coverage values, `width × height` of them.
+    pub fn coverage(&self) -> &[f32] {
+        &self.coverage
+    }
+
+    /// Coverage of pixel (col, row); 0 outside the image.
+    #[inline]
     pub fn coverage_at(&self, col: i64, row: i64) -> f32 {
-        if col < 0 || row < 0 || col >= self.width as i64 || row >= self.height as i64 {
+        if col < 0 || row < 0 || col >= i64::from(self.width) || row >= i64::from(self.height) {
             return 0.0;
         }
-        self.coverage[row as usize * self.width as usize + col as usize]
+        let index = row as usize * self.width as usize + col as usize;
+        self.coverage.get(index).copied().unwrap_or(0.0)
     }
-    /// Bilinear coverage at a point (pixel centres at half-integers).
-    pub fn sample(&self, _p: Point) -> f64 {
-        0.0
+
+    /// Bilinear interpolation of the coverage at `p`, with pixel (c, r) sampled at its centre
+    /// (c + 0.5, r + 0.5) and every pixel outside the image counted as 0 (so the value falls
+    /// to 0 over the half pixel beyond the border, and is 0 further out).
+    #[inline]
+    pub fn sample(&self, p: Point) -> f64 {
+        let x = p.x - 0.5;
+        let y = p.y - 0.5;
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        // Also rejects NaN.
+        if !(x > -1.0 && y > -1.0 && x < w && y < h) {
+            return 0.0;
+        }
+        let x0 = x.floor();
+        let y0 = y.floor();
+        let fx = (x - x0) as f32;
+        let fy = (y - y0) as f32;
+        let (c, r) = (x0 as i64, y0 as i64);
+        let (v00, v10, v01, v11) = if c >= 0
+            && r >= 0
+            && c + 1 < i64::from(self.width)
+            && r + 1 < i64::from(self.height)
+        {
+            let stride = self.width as usize;
+            let i = r as usize * stride + c as usize;
+            match (
+                self.coverage.get(i..i + 2),
+                self.coverage.get(i + stride..i + stride + 2),
+            ) {
+                (Some(top), Some(bottom)) => (top[0], top[1], bottom[0], bottom[1]),
+                _ => return 0.0,
+            }
+        } else {
+            (
+                self.coverage_at(c, r),
+                self.coverage_at(c + 1, r),
+                self.coverage_at(c, r + 1),
+                self.coverage_at(c + 1, r + 1),
+            )
+        };
+        let top = v00 + (v10 - v00) * fx;
+        let bottom = v01 + (v11 - v01) * fx;
+        f64::from(top + (bottom - top) * fy)
     }
-    /// Threshold in [0, 1].
+
+    /// The threshold in [0, 1]: a pixel is foreground when its coverage is at least this.
     pub fn threshold(&self) -> f64 {
         self.threshold
     }
-    /// Bilevel input.
+
+    /// True when the image carries (almost) no grey levels at its edges: fewer than 5 % of
+    /// the pixels next to a threshold crossing have a coverage strictly between 0.05 and
+    /// 0.95. Also true when there is no crossing at all. Contour extraction then smooths the
+    /// pixel staircase instead of refining edges to sub-pixel positions.
     pub fn is_bilevel(&self) -> bool {
-        false
+        self.bilevel
     }
-    /// Shape from alpha.
+
+    /// True when the coverage came from the alpha channel.
     pub fn from_alpha(&self) -> bool {
-        false
+        self.from_alpha
     }
-    /// Border mostly foreground.
+
+    /// True when more than half of the outermost ring of pixels is foreground: the polarity
+    /// is probably wrong (try `invert`). Only reported, never acted on.
     pub fn dark_border(&self) -> bool {
-        false
+        self.dark_border
+    }
+
+    /// True when a coverage value counts as foreground.
+    #[inline]
+    fn is_foreground(&self, v: f32) -> bool {
+        f64::from(v) >= self.threshold
+    }
+
+    /// The thresholded image: 255 where coverage ≥ threshold, 0 elsewhere.
+    pub fn mask(&self) -> GrayImage {
+        let pixels = self
+            .coverage
+            .iter()
+            .map(|&v| if self.is_foreground(v) { 255 } else { 0 })
+            .collect();
+        GrayImage::from_raw(self.width, self.height, pixels)
+            .unwrap_or_else(|| GrayImage::new(self.width, self.height))
+    }
+
+    /// The coverage as a picture: foreground black (0), background white (255), grey levels
+    /// in between. Used as the backdrop of overlays.
+    pub fn preview(&self) -> GrayImage {
+        let pixels = self
+            .coverage
+            .iter()
+            .map(|&v| ((1.0 - v) * 255.0).round().clamp(0.0, 255.0) as u8)
+            .collect();
+        GrayImage::from_raw(self.width, self.height, pixels)
+            .unwrap_or_else(|| GrayImage::new(self.width, self.height))
+    }
+
+    fn detect_bilevel(&self) -> bool {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let grey = |v: f32| v > GREY_LO && v < GREY_HI;
+        let (mut edge, mut grey_edge) = (0u64, 0u64);
+        let mut count_pair = |a: f32, b: f32| {
+            if self.is_foreground(a) != self.is_foreground(b) {
+                edge += 2;
+                grey_edge += u64::from(grey(a)) + u64::from(grey(b));
+            }
+        };
+        for (r, row) in self.coverage.chunks_exact(w).enumerate() {
+            for c in 0..w {
+                if c + 1 < w {
+                    count_pair(row[c], row[c + 1]);
+                }
+                if r + 1 < h {
+                    count_pair(row[c], self.coverage[(r + 1) * w + c]);
+                }
+            }
+        }
+        (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
+    }
+
+    fn detect_dark_border(&self) -> bool {
+        let (w, h) = (i64::from(self.width), i64::from(self.height));
+        let mut ring = 0u64;
+        let mut dark = 0u64;
+        let mut visit = |c: i64, r: i64| {
+            ring += 1;
+            dark += u64::from(self.is_foreground(self.coverage_at(c, r)));
+        };
+        for c in 0..w {
+            visit(c, 0);
+            if h > 1 {
+                visit(c, h - 1);
+            }
+        }
+        for r in 1..h - 1 {
+            visit(0, r);
+            if w > 1 {
+                visit(w - 1, r);
+            }
+        }
+        2 * dark > ring
     }
 }
 
-/// Loads an image file.
-pub fn load(_path: &Path, _opts: &RasterOptions) -> Result<Bitmap> {
-    Bitmap::from_coverage(0, 0, vec![], None)
+/// Otsu's threshold of a coverage field on a 256-bin histogram, on the [0, 1] scale, clamped
+/// to [`OTSU_MIN`, `OTSU_MAX`]. Ties (an empty range of levels between the classes) resolve
+/// to the middle of the range. A uniform field gives 0.5.
+fn otsu_threshold(coverage: &[f32]) -> f64 {
+    let mut hist = [0u64; 256];
+    for &v in coverage {
+        hist[(v * 255.0).round().clamp(0.0, 255.0) as usize] += 1;
+    }
+    let total = coverage.len() as f64;
+    let sum_all: f64 = hist
+        .iter()
+        .enumerate()
+        .map(|(i, &n)| i as f64 * n as f64)
+        .sum();
+    let (mut w_b, mut sum_b) = (0.0, 0.0);
+    let mut best = -1.0;
+    let (mut lo, mut hi) = (0usize, 0usize);
+    for (t, &n) in hist.iter().enumerate().take(255) {
+        w_b += n as f64;
+        sum_b += t as f64 * n as f64;
+        let w_f = total - w_b;
+        if w_b == 0.0 {
+            continue;
+        }
+        if w_f == 0.0 {
+            break;
+        }
+        let diff = sum_b / w_b - (sum_all - sum_b) / w_f;
+        let between = w_b * w_f * diff * diff;
+        if between > best * (1.0 + 1e-12) {
+            best = between;
+            lo = t;
+            hi = t;
+        } else if between >= best * (1.0 - 1e-12) {
+            hi = t;
+        }
+    }
+    if best < 0.0 {
+        return 0.5;
+    }
+    // Background = levels ≤ t, so the cut lies half a level above t.
+    let t = (lo + hi) as f64 / 2.0;
+    ((t + 0.5) / 255.0).clamp(OTSU_MIN, OTSU_MAX)
+}
+
+/// Checks a width and height against the zero-size and `max_pixels` rules.
+fn check_dimensions(width: u32, height: u32, max_pixels: u64) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(Error::ZeroSize { width, height });
+    }
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > max_pixels {
+        return Err(Error::TooLarge {
+            width,
+            height,
+            pixels,
+            limit: max_pixels,
+        });
+    }
+    Ok(())
+}
+
+/// Turns a decoded image into a [`Bitmap`] (see the module docs for the coverage rules).
+///
+/// Errors: [`Error::ZeroSize`], [`Error::TooLarge`] (against `opts.max_pixels`).
+pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
+    let (width, height) = img.dimensions();
+    check_dimensions(width, height, opts.max_pixels)?;
+    let mut from_alpha = false;
+    let mut coverage: Vec<f32> = if img.color().has_alpha() {
+        let luma_alpha = img.to_luma_alpha32f().into_raw();
+        from_alpha = luma_alpha.chunks_exact(2).any(|p| p[1] < 1.0);
+        luma_alpha
+            .chunks_exact(2)
+            .map(|p| if from_alpha { p[1] } else { 1.0 - p[0] })
+            .collect()
+    } else {
+        let mut luma = img.to_luma32f().into_raw();
+        for v in &mut luma {
+            *v = 1.0 - *v;
+        }
+        luma
+    };
+    if opts.invert {
+        for v in &mut coverage {
+            *v = 1.0 - *v;
+        }
+    }
+    let threshold = opts.threshold.map(|t| f64::from(t) / 255.0);
+    Bitmap::build(width, height, coverage, threshold, from_alpha)
+}
+
+/// Loads an image file into a [`Bitmap`].
+///
+/// The format is recognised from the content, not the file name. The dimensions are read
+/// from the header and checked before any pixel is decoded, and the decoder's memory is
+/// capped in proportion to `opts.max_pixels`, so a hostile header cannot make it allocate
+/// much more than an accepted image would need.
+///
+/// Errors: [`Error::Read`] when the file cannot be opened or read; [`Error::Decode`] when it
+/// is not a supported image or is truncated or corrupt; [`Error::ZeroSize`];
+/// [`Error::TooLarge`].
+pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+    let read_error = |source| Error::Read {
+        path: path.to_path_buf(),
+        source,
+    };
+    let decode_error = |source| Error::Decode {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = File::open(path).map_err(read_error)?;
+    let mut reader = ImageReader::new(BufReader::new(file))
+        .with_guessed_format()
+        .map_err(read_error)?;
+    let mut limits = Limits::default();
+    limits.max_alloc = Some(
+        opts.max_pixels
+            .saturating_mul(DECODE_BYTES_PER_PIXEL)
+            .saturating_add(DECODE_SLACK_BYTES),
+    );
+    reader.limits(limits);
+    let decoder = reader.into_decoder().map_err(decode_error)?;
+    let (width, height) = decoder.dimensions();
+    check_dimensions(width, height, opts.max_pixels)?;
+    let img = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
+    from_image(&img, opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::{GrayImage, Luma, LumaA, Rgba, RgbaImage};
+    use std::path::PathBuf;
+
+    fn opts() -> RasterOptions {
+        RasterOptions {
+            threshold: None,
+            invert: false,
+            max_pixels: 1 << 30,
+        }
+    }
+
+    /// A unique path in the system temp directory.
+    fn temp_path(name: &str) -> PathBuf {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0);
+        std::env::temp_dir().join(format!(
+            "outlinefit-raster-{}-{nanos}-{name}",
+            std::process::id()
+        ))
+    }
+
+    /// A 6×4 grey image: a dark 2×2 block (luma 0) on white (255) with one mid-grey pixel.
+    fn block_image() -> GrayImage {
+        let mut img = GrayImage::from_pixel(6, 4, Luma([255]));
+        for (c, r) in [(2, 1), (3, 1), (2, 2), (3, 2)] {
+            img.put_pixel(c, r, Luma([0]));
+        }
+        img.put_pixel(4, 1, Luma([128]));
+        img
+    }
+
+    #[test]
+    fn dark_on_light_coverage_and_invert() {
+        let img = DynamicImage::ImageLuma8(block_image());
+        let b = from_image(&img, &opts()).unwrap();
+        assert_eq!((b.width, b.height), (6, 4));
+        assert_eq!(b.coverage_at(2, 1), 1.0);
+        assert_eq!(b.coverage_at(0, 0), 0.0);
+        assert!((b.coverage_at(4, 1) - (1.0 - 128.0 / 255.0)).abs() < 1e-6);
+        assert_eq!(b.coverage_at(-1, 0), 0.0);
+        assert_eq!(b.coverage_at(6, 0), 0.0);
+        assert!(!b.from_alpha());
+        assert!(!b.dark_border());
+
+        let inv = from_image(
+            &img,
+            &RasterOptions {
+                invert: true,
+                ..opts()
+            },
+        )
+        .unwrap();
+        assert_eq!(inv.coverage_at(2, 1), 0.0);
+        assert_eq!(inv.coverage_at(0, 0), 1.0);
+        assert!(inv.dark_border());
+    }
+
+    #[test]
+    fn sixteen_bit_precision_is_kept() {
+        let mut img = image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_pixel(2, 1, Luma([0]));
+        img.put_pixel(1, 0, Luma([32768]));
+        let b = from_image(&DynamicImage::ImageLuma16(img), &opts()).unwrap();
+        // 8-bit quantisation would give 127/255 or 128/255, 0.0020 away from 0.5.
+        assert!((b.coverage_at(1, 0) - (1.0 - 32768.0 / 65535.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn otsu_of_bilevel_is_half_and_fixed_threshold_is_used() {
+        let img = DynamicImage::ImageLuma8(block_image());
+        let b = from_image(&img, &opts()).unwrap();
+        // Levels {0, 127, 255}: Otsu separates 0 from the rest, the cut is in the empty
+        // range between 0 and 127: its middle is 63, 63.5/255 = 0.249.
+        assert!(
+            (b.threshold() - 63.5 / 255.0).abs() < 1e-12,
+            "{}",
+            b.threshold()
+        );
+
+        let mut pure = block_image();
+        pure.put_pixel(4, 1, Luma([255]));
+        let b = from_image(&DynamicImage::ImageLuma8(pure), &opts()).unwrap();
+        assert!((b.threshold() - 0.5).abs() < 1e-12);
+        assert!(b.is_bilevel());
+
+        let fixed = from_image(
+            &img,
+            &RasterOptions {
+                threshold: Some(200),
+                ..opts()
+            },
+        )
+        .unwrap();
+        assert!((fixed.threshold() - 200.0 / 255.0).abs() < 1e-12);
+        // The grey pixel (coverage 0.498) is foreground at Otsu's level, not at 200/255.
+        let otsu_mask = from_image(&img, &opts()).unwrap().mask();
+        assert_eq!(otsu_mask.get_pixel(4, 1).0[0], 255);
+        assert_eq!(fixed.mask().get_pixel(4, 1).0[0], 0);
+        assert_eq!(fixed.mask().get_pixel(2, 1).0[0], 255);
+    }
+
+    #[test]
+    fn otsu_is_clamped() {
+        // 1 foreground pixel among 10 000 at coverage 0.1 levels: Otsu alone would cut near
+        // 0.05; the clamp keeps it at 0.2.
+        let mut cov = vec![0.0f32; 10_000];
+        cov[5] = 0.1;
+        cov[6] = 0.1;
+        let b = Bitmap::from_coverage(100, 100, cov, None).unwrap();
+        assert_eq!(b.threshold(), OTSU_MIN);
+        let b = Bitmap::from_coverage(2, 2, vec![0.9, 1.0, 1.0, 1.0], None).unwrap();
+        assert_eq!(b.threshold(), OTSU_MAX);
+        // A uniform field has no cut at all.
+        let b = Bitmap::from_coverage(2, 2, vec![0.3; 4], None).unwrap();
+        assert_eq!(b.threshold(), 0.5);
+    }
+
+    #[test]
+    fn otsu_separates_two_grey_populations() {
+        // Half the pixels around 0.3, half around 0.7: the cut must fall between them.
+        let cov: Vec<f32> = (0..400)
+            .map(|i| {
+                if i % 2 == 0 {
+                    0.28 + (i % 7) as f32 * 0.01
+                } else {
+                    0.68 + (i % 5) as f32 * 0.01
+                }
+            })
+            .collect();
+        let b = Bitmap::from_coverage(20, 20, cov, None).unwrap();
+        assert!(
+            b.threshold() > 0.34 && b.threshold() < 0.68,
+            "{}",
+            b.threshold()
+        );
+    }
+
+    #[test]
+    fn alpha_is_the_shape_even_for_white_logos() {
+        // A white, fully opaque 2×2 block on a transparent (black, alpha 0) background.
+        let mut img = RgbaImage::from_pixel(5, 5, Rgba([0, 0, 0, 0]));
+        for (c, r) in [(1, 1), (2, 1), (1, 2), (2, 2)] {
+            img.put_pixel(c, r, Rgba([255, 255, 255, 255]));
+        }
+        img.put_pixel(3, 1, Rgba([255, 255, 255, 64]));
+        let dynimg = DynamicImage::ImageRgba8(img);
+        let b = from_image(&dynimg, &opts()).unwrap();
+        assert!(b.from_alpha());
+        assert_eq!(b.coverage_at(1, 1), 1.0);
+        assert_eq!(b.coverage_at(0, 0), 0.0);
+        assert!((b.coverage_at(3, 1) - 64.0 / 255.0).abs() < 1e-6);
+        let inv = from_image(
+            &dynimg,
+            &RasterOptions {
+                invert: true,
+                ..opts()
+            },
+        )
+        .unwrap();
+        assert_eq!(inv.coverage_at(1, 1), 0.0);
+        assert_eq!(inv.coverage_at(0, 0), 1.0);
+
+        // An alpha channel that is opaque everywhere is ignored: luminance decides.
+        let mut opaque = image::GrayAlphaImage::from_pixel(3, 1, LumaA([255, 255]));
+        opaque.put_pixel(1, 0, LumaA([0, 255]));
+        let b = from_image(&DynamicImage::ImageLumaA8(opaque), &opts()).unwrap();
+        assert!(!b.from_alpha());
+        assert_eq!(b.coverage(), &[0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn sample_is_bilinear_between_pixel_centres() {
+        let b = Bitmap::from_coverage(2, 2, vec![0.0, 1.0, 0.5, 0.25], Some(0.5)).unwrap();
+        assert_eq!(b.sample(Point::new(0.5, 0.5)), 0.0);
+        assert_eq!(b.sample(Point::new(1.5, 0.5)), 1.0);
+        assert_eq!(b.sample(Point::new(1.0, 0.5)), 0.5);
+        // Centre of the four: mean 0.4375.
+        assert!((b.sample(Point::new(1.0, 1.0)) - 0.4375).abs() < 1e-7);
+        // Half a pixel past the right border: halfway to the outside zero.
+        assert!((b.sample(Point::new(2.0, 0.5)) - 0.5).abs() < 1e-7);
+        assert_eq!(b.sample(Point::new(2.5, 0.5)), 0.0);
+        assert_eq!(b.sample(Point::new(-3.0, 0.5)), 0.0);
+        assert_eq!(b.sample(Point::new(f64::NAN, 0.5)), 0.0);
+    }
+
+    #[test]
+    fn bilevel_detection() {
+        // A 0/1 square: bilevel.
+        let mut cov = vec![0.0f32; 100];
+        for r in 3..7 {
+            for c in 3..7 {
+                cov[r * 10 + c] = 1.0;
+            }
+        }
+        let b = Bitmap::from_coverage(10, 10, cov.clone(), None).unwrap();
+        assert!(b.is_bilevel());
+        // The same square with half-covered pixels around it: anti-aliased.
+        for r in 3..7 {
+            cov[r * 10 + 7] = 0.5;
+            cov[r * 10 + 2] = 0.5;
+        }
+        let b = Bitmap::from_coverage(10, 10, cov, None).unwrap();
+        assert!(!b.is_bilevel());
+    }
+
+    #[test]
+    fn dark_border_detection() {
+        let mut cov = vec![1.0f32; 16];
+        cov[5] = 0.0;
+        let b = Bitmap::from_coverage(4, 4, cov, Some(0.5)).unwrap();
+        assert!(b.dark_border());
+        let b = Bitmap::from_coverage(1, 3, vec![1.0, 0.0, 0.0], Some(0.5)).unwrap();
+        assert!(!b.dark_border());
+    }
+
+    #[test]
+    fn mask_and_preview() {
+        let b = Bitmap::from_coverage(3, 1, vec![0.0, 0.5, 1.0], Some(0.5)).unwrap();
+        assert_eq!(b.mask().into_raw(), vec![0, 255, 255]);
+        assert_eq!(b.preview().into_raw(), vec![255, 128, 0]);
+    }
+
+    #[test]
+    fn from_coverage_validates() {
+        assert!(matches!(
+            Bitmap::from_coverage(0, 3, vec![], None),
+            Err(Error::ZeroSize {
+                width: 0,
+                height: 3
+            })
+        ));
+        assert!(matches!(
+            Bitmap::from_coverage(2, 2, vec![0.0; 3], None),
+            Err(Error::InvalidOption { .. })
+        ));
+        assert!(matches!(
+            Bitmap::from_coverage(1, 1, vec![0.0], Some(1.5)),
+            Err(Error::InvalidOption { .. })
+        ));
+        let b = Bitmap::from_coverage(3, 1, vec![f32::NAN, -2.0, 7.0], Some(0.5)).unwrap();
+        assert_eq!(b.coverage(), &[0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn size_limits() {
+        let img = DynamicImage::ImageLuma8(GrayImage::new(0, 5));
+        assert!(matches!(
+            from_image(&img, &opts()),
+            Err(Error::ZeroSize {
+                width: 0,
+                height: 5
+            })
+        ));
+        let img = DynamicImage::ImageLuma8(GrayImage::new(10, 10));
+        let small = RasterOptions {
+            max_pixels: 99,
+            ..opts()
+        };
+        assert!(matches!(
+            from_image(&img, &small),
+            Err(Error::TooLarge {
+                pixels: 100,
+                limit: 99,
+                ..
+            })
+        ));
+
+        // From a file: the header alone decides.
+        let path = temp_path("big.png");
+        img.save(&path).unwrap();
+        let res = load(&path, &small);
+        let ok = load(&path, &opts());
+        let _ = std::fs::remove_file(&path);
+        assert!(
+            matches!(res, Err(Error::TooLarge { pixels: 100, .. })),
+            "{res:?}"
+        );
+        assert_eq!(ok.unwrap().width, 10);
+    }
+
+    #[test]
+    fn zero_size_file_is_rejected() {
+        // A PGM header may declare 0×4 pixels.
+        let path = temp_path("empty.pgm");
+        std::fs::write(&path, b"P5\n0 4\n255\n").unwrap();
+        let res = load(&path, &opts());
+        let _ = std::fs::remove_file(&path);
+        assert!(matches!(res, Err(Error::ZeroSize { .. })), "{res:?}");
+    }
+
+    #[test]
+    fn read_and_decode_errors() {
+        let missing = temp_path("missing.png");
+        assert!(matches!(load(&missing, &opts()), Err(Error::Read { .. })));
+
+        // Not an image, whatever its name says.
+        let fake = temp_path("fake.png");
+        std::fs::write(&fake, b"this is plain text, not a PNG").unwrap();
+        let res = load(&fake, &opts());
+        let _ = std::fs::remove_file(&fake);
+        assert!(matches!(res, Err(Error::Decode { .. })), "{res:?}");
+
+        // A truncated PNG.
+        let mut img = GrayImage::new(64, 64);
+        for (i, p) in img.pixels_mut().enumerate() {
+            p.0[0] = (i * 37 % 251) as u8;
+        }
+        let full = temp_path("full.png");
+        DynamicImage::ImageLuma8(img).save(&full).unwrap();
+        let bytes = std::fs::read(&full).unwrap();
+        let _ = std::fs::remove_file(&full);
+        let cut = temp_path("cut.png");
+        std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+        let res = load(&cut, &opts());
+        let _ = std::fs::remove_file(&cut);
+        assert!(matches!(res, Err(Error::Decode { .. })), "{res:?}");
+    }
+
+    #[test]
+    fn content_decides_the_format() {
+        // A PNG named .jpg, and a BMP named .png.
+        let img = DynamicImage::ImageLuma8(block_image());
+        let png = temp_path("really-png.png");
+        img.save(&png).unwrap();
+        let misnamed = temp_path("misnamed.jpg");
+        std::fs::rename(&png, &misnamed).unwrap();
+        let res = load(&misnamed, &opts());
+        let _ = std::fs::remove_file(&misnamed);
+        assert_eq!(res.unwrap().coverage_at(2, 1), 1.0);
+
+        let bmp = temp_path("really-bmp.bmp");
+        DynamicImage::ImageRgb8(img.to_rgb8()).save(&bmp).unwrap();
+        let misnamed = temp_path("misnamed-bmp.png");
+        std::fs::rename(&bmp, &misnamed).unwrap();
+        let res = load(&misnamed, &opts());
+        let _ = std::fs::remove_file(&misnamed);
+        assert_eq!(res.unwrap().coverage_at(3, 2), 1.0);
+    }
 }
