@@ -1,44 +1,456 @@
-//! Break points (placeholder).
+//! Break points: where a closed contour is cut into segments.
+//!
+//! Curvature is measured as a turning angle over a window of arc length: at point i the
+//! angle between the chord arriving from s_i − h and the chord leaving to s_i + h. This is
+//! robust to the residual noise of sub-pixel boundaries, and the window `h` is scaled to the
+//! image so that 64 px and 1024 px glyphs behave alike ([`BreakOptions::for_image`]).
+//!
+//! * **Corners** (G0 joints): local maxima of the turning angle above the corner angle.
+//! * **Inflections** (smooth joints): sign changes of the signed turning angle between two
+//!   lobes that both bend clearly (above a noise floor), located at the zero crossing by
+//!   linear interpolation between samples.
+//! * **Curvature extrema** (smooth joints): local maxima of |turning angle| above the noise
+//!   floor, located to sub-sample accuracy by the parabola through the three neighbouring
+//!   samples, as in Algorithm 1 of the fireworks paper.
+//!
+//! A break that falls between two samples is inserted into the point list as a new point
+//! (linear interpolation along the polygon), so every break is a data point.
+
 use crate::contour::Contour;
 use crate::fit::JointKind;
-use crate::geom::Point;
+use crate::geom::{angle_between, Point};
 use serde::Serialize;
 
 /// Options of break detection.
 #[derive(Clone, Debug)]
 pub struct BreakOptions {
-    /// Corner angle in degrees.
+    /// A turning angle above this (degrees) over the window makes a corner.
     pub corner_angle: f64,
-    /// Curvature window in px.
+    /// Arc-length half-window (px) of the turning-angle measure.
     pub window: f64,
+    /// Smallest turning angle (radians) over the window that counts as bending, for
+    /// inflections and curvature extrema.
+    pub bend_floor: f64,
 }
+
 impl BreakOptions {
-    /// Options scaled to an image.
-    pub fn for_image(corner_angle: f64, _w: u32, _h: u32) -> Self {
-        BreakOptions { corner_angle, window: 2.0 }
+    /// Options for an image of the given size: the window is 1/100 of the larger side,
+    /// clamped to [2, 8] px (2 px on a 64 px glyph, 2.6 px at 256 px, 8 px from 800 px up).
+    pub fn for_image(corner_angle: f64, width: u32, height: u32) -> Self {
+        let side = width.max(height) as f64;
+        BreakOptions {
+            corner_angle,
+            window: (side / 100.0).clamp(2.0, 8.0),
+            bend_floor: 0.12,
+        }
     }
 }
-/// A break.
+
+/// Why a break was placed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BreakReason {
+    /// A corner of the outline.
+    Corner,
+    /// A change of the sign of curvature.
+    Inflection,
+    /// A local maximum of |curvature|.
+    CurvatureExtremum,
+    /// Added so that a closed contour without features has at least two segments.
+    Fallback,
+    /// Added by the fitting strategy to meet the tolerance.
+    Split,
+}
+
+/// One break point of a contour.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Break {
-    /// Index into points.
+    /// Index of the break in the contour's point list.
     pub index: usize,
-    /// Kind.
+    /// Corner (G0) or smooth (G1) joint.
     pub kind: JointKind,
+    /// Why it is there.
+    pub reason: BreakReason,
 }
-/// A contour with breaks.
+
+/// A contour with its break points.
 #[derive(Clone, Debug)]
 pub struct SegmentedContour {
-    /// Points.
+    /// Data points (the contour's, with sub-sample breaks inserted).
     pub points: Vec<Point>,
-    /// Hole.
+    /// True for the border of a hole.
     pub is_hole: bool,
-    /// Parent.
+    /// Index of the enclosing contour.
     pub parent: Option<usize>,
-    /// Breaks.
+    /// Breaks sorted by index. At least two for any contour with three or more points.
     pub breaks: Vec<Break>,
 }
-/// Finds breaks.
-pub fn find_breaks(c: &Contour, _o: &BreakOptions) -> SegmentedContour {
-    SegmentedContour { points: c.points.clone(), is_hole: c.is_hole, parent: c.parent, breaks: vec![] }
+
+/// Arc-length positions of a closed polygon: `s[i]` for each point and the total length.
+fn arc_lengths(points: &[Point]) -> (Vec<f64>, f64) {
+    let n = points.len();
+    let mut s = Vec::with_capacity(n);
+    let mut acc = 0.0;
+    for i in 0..n {
+        s.push(acc);
+        acc += points[i].distance(points[(i + 1) % n]);
+    }
+    (s, acc)
+}
+
+/// The point at arc length `target` (any real; wrapped) of a closed polygon, searching from
+/// index `hint`.
+fn point_at(points: &[Point], s: &[f64], total: f64, hint: usize, target: f64) -> Point {
+    let n = points.len();
+    let t = target.rem_euclid(total);
+    // Walk from the hint in the needed direction; windows are short, so this is O(window).
+    let mut i = hint;
+    let seg_end = |i: usize| if i + 1 < n { s[i + 1] } else { total };
+    let mut guard = 0;
+    while !(s[i] <= t && t < seg_end(i)) && guard < n {
+        let forward = (t - s[i]).rem_euclid(total) < total / 2.0;
+        i = if forward {
+            (i + 1) % n
+        } else {
+            (i + n - 1) % n
+        };
+        guard += 1;
+    }
+    let len = seg_end(i) - s[i];
+    let f = if len > 0.0 { (t - s[i]) / len } else { 0.0 };
+    points[i].lerp(points[(i + 1) % n], f)
+}
+
+/// Signed turning angle at every point over half-window `h` (positive turning clockwise on
+/// screen, i.e. towards +y from +x).
+pub fn turning_angles(points: &[Point], h: f64) -> Vec<f64> {
+    let n = points.len();
+    let (s, total) = arc_lengths(points);
+    if n < 3 || total <= 0.0 {
+        return vec![0.0; n];
+    }
+    let h = h.min(total / 4.0);
+    (0..n)
+        .map(|i| {
+            let a = point_at(points, &s, total, i, s[i] - h);
+            let b = point_at(points, &s, total, i, s[i] + h);
+            let din = points[i] - a;
+            let dout = b - points[i];
+            let ang = angle_between(din, dout);
+            if din.cross(dout) < 0.0 {
+                -ang
+            } else {
+                ang
+            }
+        })
+        .collect()
+}
+
+/// Finds corners, inflections and curvature extrema of a closed contour.
+pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
+    let points = &contour.points;
+    let n = points.len();
+    let mut found: Vec<(usize, f64, JointKind, BreakReason)> = Vec::new(); // (index, fraction to next, kind, reason)
+    if n >= 3 {
+        let h = opts.window;
+        let theta = turning_angles(points, h);
+        let (s, total) = arc_lengths(points);
+        let corner = opts.corner_angle.to_radians();
+        // Index range within ±h of arc length around i, as offsets.
+        let within = |i: usize, j: usize| {
+            let d = (s[j] - s[i]).abs();
+            d.min(total - d) <= h
+        };
+        let is_local_max = |i: usize, val: &dyn Fn(usize) -> f64| {
+            let v = val(i);
+            let mut k = 1;
+            while k < n / 2 {
+                let (a, b) = ((i + n - k) % n, (i + k) % n);
+                if !within(i, a) && !within(i, b) {
+                    break;
+                }
+                // Ties go to the earlier index so a plateau yields one maximum.
+                if (within(i, a) && val(a) >= v) || (within(i, b) && val(b) > v) {
+                    return false;
+                }
+                k += 1;
+            }
+            true
+        };
+        let abs_theta = |i: usize| theta[i].abs();
+        let mut corner_idx = Vec::new();
+        for i in 0..n {
+            if theta[i].abs() > corner && is_local_max(i, &abs_theta) {
+                corner_idx.push(i);
+                found.push((i, 0.0, JointKind::Corner, BreakReason::Corner));
+            }
+        }
+        let near_corner = |i: usize| {
+            corner_idx.iter().any(|&c| {
+                let d = (s[c] - s[i]).abs();
+                d.min(total - d) <= 2.0 * h
+            })
+        };
+        let floor = opts.bend_floor;
+        for i in 0..n {
+            if near_corner(i) {
+                continue;
+            }
+            // Curvature extremum, refined by a parabola through three samples.
+            if theta[i].abs() > floor && is_local_max(i, &abs_theta) {
+                let (a, c) = (theta[(i + n - 1) % n].abs(), theta[(i + 1) % n].abs());
+                let b = theta[i].abs();
+                let denom = a - 2.0 * b + c;
+                let off = if denom.abs() > 1e-12 {
+                    (0.5 * (a - c) / denom).clamp(-0.5, 0.5)
+                } else {
+                    0.0
+                };
+                let (idx, frac) = if off >= 0.0 {
+                    (i, off)
+                } else {
+                    ((i + n - 1) % n, 1.0 + off)
+                };
+                found.push((idx, frac, JointKind::Smooth, BreakReason::CurvatureExtremum));
+            }
+            // Inflection between i and i+1: a sign change with clear bending on both sides.
+            let j = (i + 1) % n;
+            if theta[i] * theta[j] < 0.0 && !near_corner(j) {
+                let lobe = |start: usize, step: isize, sign: f64| {
+                    let mut m: f64 = 0.0;
+                    let mut k = start as isize;
+                    for _ in 0..n {
+                        let idx = k.rem_euclid(n as isize) as usize;
+                        if theta[idx] * sign <= 0.0 {
+                            break;
+                        }
+                        m = m.max(theta[idx].abs());
+                        k += step;
+                    }
+                    m
+                };
+                if lobe(i, -1, theta[i].signum()) > floor && lobe(j, 1, theta[j].signum()) > floor {
+                    let f = theta[i].abs() / (theta[i].abs() + theta[j].abs());
+                    found.push((i, f, JointKind::Smooth, BreakReason::Inflection));
+                }
+            }
+        }
+    }
+    build_segmented(contour, found)
+}
+
+/// Inserts sub-sample breaks as points, merges breaks that land within 0.5 px of each
+/// other (corners win), and guarantees at least two breaks.
+fn build_segmented(
+    contour: &Contour,
+    mut found: Vec<(usize, f64, JointKind, BreakReason)>,
+) -> SegmentedContour {
+    let src = &contour.points;
+    let n = src.len();
+    // Snap fractions near a sample onto it.
+    for f in found.iter_mut() {
+        if f.1 < 0.2 {
+            f.1 = 0.0;
+        } else if f.1 > 0.8 {
+            f.0 = (f.0 + 1) % n.max(1);
+            f.1 = 0.0;
+        }
+    }
+    found.sort_by(|a, b| {
+        (a.0, a.1)
+            .partial_cmp(&(b.0, b.1))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let mut points = Vec::with_capacity(n + found.len());
+    let mut breaks: Vec<Break> = Vec::new();
+    let mut k = 0;
+    for i in 0..n {
+        points.push(src[i]);
+        let here = points.len() - 1;
+        while k < found.len() && found[k].0 == i {
+            let (_, frac, kind, reason) = found[k];
+            let index = if frac == 0.0 {
+                here
+            } else {
+                points.push(src[i].lerp(src[(i + 1) % n], frac));
+                points.len() - 1
+            };
+            push_break(
+                &mut breaks,
+                &points,
+                Break {
+                    index,
+                    kind,
+                    reason,
+                },
+            );
+            k += 1;
+        }
+    }
+    // Close the loop: the last break may sit next to the first.
+    if breaks.len() >= 2 {
+        let (first, last) = (breaks[0], breaks[breaks.len() - 1]);
+        if points[first.index].distance(points[last.index]) < 0.5 {
+            if last.kind == JointKind::Corner && first.kind != JointKind::Corner {
+                breaks.remove(0);
+            } else {
+                breaks.pop();
+            }
+        }
+    }
+    let m = points.len();
+    if m >= 3 && breaks.len() < 2 {
+        // A contour without features: cut it at the point farthest from the first break
+        // (or from point 0), so that a closed contour is never one segment.
+        let anchor = breaks.first().map_or(0, |b| b.index);
+        let far = (0..m)
+            .max_by(|&a, &b| {
+                let da = points[a].distance(points[anchor]);
+                let db = points[b].distance(points[anchor]);
+                da.total_cmp(&db)
+            })
+            .unwrap_or(m / 2);
+        if breaks.is_empty() {
+            breaks.push(Break {
+                index: anchor,
+                kind: JointKind::Smooth,
+                reason: BreakReason::Fallback,
+            });
+        }
+        if far != anchor {
+            breaks.push(Break {
+                index: far,
+                kind: JointKind::Smooth,
+                reason: BreakReason::Fallback,
+            });
+        }
+        breaks.sort_by_key(|b| b.index);
+    }
+    SegmentedContour {
+        points,
+        is_hole: contour.is_hole,
+        parent: contour.parent,
+        breaks,
+    }
+}
+
+/// Appends a break unless the previous one is within 0.5 px; a corner replaces a smooth
+/// break.
+fn push_break(breaks: &mut Vec<Break>, points: &[Point], b: Break) {
+    if let Some(last) = breaks.last_mut() {
+        if points[last.index].distance(points[b.index]) < 0.5 {
+            if b.kind == JointKind::Corner && last.kind != JointKind::Corner {
+                *last = b;
+            }
+            return;
+        }
+    }
+    breaks.push(b);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn contour(points: Vec<Point>) -> Contour {
+        Contour {
+            points,
+            is_hole: false,
+            parent: None,
+        }
+    }
+
+    fn square(side: f64, step: f64) -> Vec<Point> {
+        let mut pts = Vec::new();
+        let k = (side / step) as usize;
+        let corners = [
+            Point::new(0.0, 0.0),
+            Point::new(side, 0.0),
+            Point::new(side, side),
+            Point::new(0.0, side),
+        ];
+        for c in 0..4 {
+            let (a, b) = (corners[c], corners[(c + 1) % 4]);
+            for j in 0..k {
+                pts.push(a.lerp(b, j as f64 / k as f64));
+            }
+        }
+        pts
+    }
+
+    #[test]
+    fn square_has_four_corners_at_its_vertices() {
+        let seg = find_breaks(
+            &contour(square(40.0, 1.0)),
+            &BreakOptions::for_image(50.0, 64, 64),
+        );
+        let corners: Vec<Point> = seg
+            .breaks
+            .iter()
+            .filter(|b| b.kind == JointKind::Corner)
+            .map(|b| seg.points[b.index])
+            .collect();
+        assert_eq!(corners.len(), 4, "{:?}", seg.breaks);
+        for v in [
+            Point::new(0.0, 0.0),
+            Point::new(40.0, 0.0),
+            Point::new(40.0, 40.0),
+            Point::new(0.0, 40.0),
+        ] {
+            assert!(
+                corners.iter().any(|c| c.distance(v) < 1e-9),
+                "{v:?} not found in {corners:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn circle_has_no_corners_but_at_least_two_breaks() {
+        let pts: Vec<Point> = (0..200)
+            .map(|i| {
+                let a = i as f64 / 200.0 * std::f64::consts::TAU;
+                Point::new(50.0 + 30.0 * a.cos(), 50.0 + 30.0 * a.sin())
+            })
+            .collect();
+        let seg = find_breaks(&contour(pts), &BreakOptions::for_image(50.0, 100, 100));
+        assert!(seg.breaks.iter().all(|b| b.kind == JointKind::Smooth));
+        assert!(seg.breaks.len() >= 2);
+    }
+
+    #[test]
+    fn inflection_of_an_s_curve_is_found_between_samples() {
+        // Two half circles joined into a closed "S"-like lens: use a sine wave closed by a
+        // far-away return path, and look for inflections near the sine's zero crossings.
+        let mut pts = Vec::new();
+        for i in 0..=160 {
+            let x = i as f64 * 0.5;
+            pts.push(Point::new(
+                x,
+                50.0 + 10.0 * (x / 80.0 * std::f64::consts::TAU).sin(),
+            ));
+        }
+        pts.push(Point::new(80.0, 100.0));
+        pts.push(Point::new(0.0, 100.0));
+        let seg = find_breaks(&contour(pts), &BreakOptions::for_image(60.0, 100, 100));
+        let infl: Vec<Point> = seg
+            .breaks
+            .iter()
+            .filter(|b| b.reason == BreakReason::Inflection)
+            .map(|b| seg.points[b.index])
+            .collect();
+        assert!(
+            infl.iter()
+                .any(|p| (p.x - 40.0).abs() < 0.75 && (p.y - 50.0).abs() < 0.75),
+            "{infl:?}"
+        );
+        // Curvature extrema of the sine at x = 20 and x = 60.
+        let ext: Vec<Point> = seg
+            .breaks
+            .iter()
+            .filter(|b| b.reason == BreakReason::CurvatureExtremum)
+            .map(|b| seg.points[b.index])
+            .collect();
+        assert!(ext.iter().any(|p| (p.x - 20.0).abs() < 0.75), "{ext:?}");
+        assert!(ext.iter().any(|p| (p.x - 60.0).abs() < 0.75), "{ext:?}");
+    }
 }

@@ -1,13 +1,413 @@
-//! lsq (placeholder).
-use super::FittedContour;
+//! The default strategy: separable least squares with exact G1 joints, error-driven
+//! splitting and merging.
+//!
+//! 1. Every break of the contour becomes a joint. A smooth joint gets one unit tangent,
+//!    estimated from the data around it (weighted quadratic fit in arc length), and both
+//!    neighbouring segments are fitted with that same tangent, so G1 holds exactly.
+//! 2. Each segment is fitted by [`fit_segment`] (weights searched in [0.01, 2.5],
+//!    control points by least squares, parameters by projection).
+//! 3. A segment whose largest point-to-curve distance exceeds the tolerance is split at its
+//!    worst point (a new smooth joint) until every segment is within tolerance or too short
+//!    to split.
+//! 4. Adjacent segments meeting at a smooth joint are merged back while the merged fit stays
+//!    within tolerance, so the outline keeps few segments. A closed contour keeps at least
+//!    two segments.
+
+use super::solve::{fit_segment, segment_error, EndCondition, FitSettings, SegmentSolution};
+use super::{FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::SegmentedContour;
-/// Options.
-pub struct LsqOptions;
-impl LsqOptions {
-    /// From config.
-    pub fn new(_c: &crate::Config) -> Self { LsqOptions }
+use crate::geom::{angle_between, Point};
+use crate::Config;
+use std::time::Instant;
+
+/// Options of the `lsq` strategy.
+#[derive(Clone, Debug)]
+pub struct LsqOptions {
+    /// Largest allowed point-to-curve distance (px).
+    pub tolerance: f64,
+    /// Settings of each segment fit.
+    pub settings: FitSettings,
+    /// Half-width (px of arc length) of the data window used to estimate joint tangents.
+    pub tangent_window: f64,
+    /// Record wall times.
+    pub timings: bool,
 }
-/// Fit.
-pub fn fit_contour(s: &SegmentedContour, _o: &LsqOptions) -> FittedContour {
-    FittedContour { points: s.points.clone(), is_hole: s.is_hole, parent: s.parent, segments: vec![], joints: vec![] }
+
+impl LsqOptions {
+    /// The options a [`Config`] implies.
+    pub fn new(config: &Config) -> Self {
+        LsqOptions {
+            tolerance: config.tolerance,
+            settings: FitSettings::default(),
+            tangent_window: 3.0,
+            timings: config.timings,
+        }
+    }
+}
+
+/// A joint while the chain is being built.
+#[derive(Clone, Copy, Debug)]
+struct JointSpec {
+    index: usize,
+    kind: JointKind,
+    /// Unit tangent in the direction of travel (smooth joints only).
+    tangent: Option<Point>,
+}
+
+/// A segment's current fit.
+#[derive(Clone, Debug)]
+struct Piece {
+    solution: SegmentSolution,
+    /// Largest |P(u_i) − Q_i| at the fitted parameters (an upper bound of the true
+    /// point-to-curve distance, used for split and merge decisions).
+    max_residual: f64,
+}
+
+/// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
+fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Point>) {
+    out.clear();
+    if b > a {
+        out.extend_from_slice(&points[a..=b]);
+    } else {
+        out.extend_from_slice(&points[a..]);
+        out.extend_from_slice(&points[..=b]);
+    }
+}
+
+/// Number of points of the cyclic run from `a` to `b`, both included.
+fn run_len(n: usize, a: usize, b: usize) -> usize {
+    if b > a {
+        b - a + 1
+    } else {
+        n - a + b + 1
+    }
+}
+
+/// Unit tangent (direction of increasing index) at point `i` of a closed polygon, from a
+/// weighted least-squares quadratic in arc length over ±`window` px.
+pub fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point {
+    let n = points.len();
+    // Collect (s, point) on both sides.
+    let mut acc = [[0.0; 3]; 3]; // normal matrix for basis (1, s, s²)
+    let mut rx = [0.0; 3];
+    let mut ry = [0.0; 3];
+    let p0 = points[i];
+    let mut add = |s: f64, p: Point| {
+        let w = (-(s / window).powi(2)).exp();
+        let b = [1.0, s, s * s];
+        for r in 0..3 {
+            for c in 0..3 {
+                acc[r][c] += w * b[r] * b[c];
+            }
+            rx[r] += w * b[r] * (p.x - p0.x);
+            ry[r] += w * b[r] * (p.y - p0.y);
+        }
+    };
+    add(0.0, p0);
+    for dir in [1isize, -1] {
+        let mut s = 0.0;
+        let mut prev = p0;
+        for k in 1..n.min(64) {
+            let j = (i as isize + dir * k as isize).rem_euclid(n as isize) as usize;
+            s += prev.distance(points[j]);
+            prev = points[j];
+            if s > 2.0 * window {
+                break;
+            }
+            add(dir as f64 * s, points[j]);
+        }
+    }
+    let solve3 = |r: [f64; 3]| -> Option<f64> {
+        // Cramer's rule for the s-coefficient.
+        let det = |m: [[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let d = det(acc);
+        if d.abs() < 1e-12 {
+            return None;
+        }
+        let mut m = acc;
+        for row in 0..3 {
+            m[row][1] = r[row];
+        }
+        Some(det(m) / d)
+    };
+    let fallback = || {
+        let a = points[(i + n - 1) % n];
+        let b = points[(i + 1) % n];
+        (b - a).normalized().unwrap_or(Point::new(1.0, 0.0))
+    };
+    match (solve3(rx), solve3(ry)) {
+        (Some(dx), Some(dy)) => Point::new(dx, dy).normalized().unwrap_or_else(fallback),
+        _ => fallback(),
+    }
+}
+
+/// Fits a closed chain of segments to a segmented contour.
+pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
+    let points = &seg.points;
+    let n = points.len();
+    let mut joints: Vec<JointSpec> = seg
+        .breaks
+        .iter()
+        .map(|b| JointSpec {
+            index: b.index,
+            kind: b.kind,
+            tangent: (b.kind == JointKind::Smooth)
+                .then(|| estimate_tangent(points, b.index, opts.tangent_window)),
+        })
+        .collect();
+    if n < 3 || joints.len() < 2 {
+        return FittedContour {
+            points: points.clone(),
+            is_hole: seg.is_hole,
+            parent: seg.parent,
+            segments: Vec::new(),
+            joints: Vec::new(),
+        };
+    }
+    let mut buf = Vec::new();
+    let fit = |a: &JointSpec, b: &JointSpec, buf: &mut Vec<Point>| -> Piece {
+        cyclic_run(points, a.index, b.index, buf);
+        let start = a.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
+        let end = b.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
+        let solution = fit_segment(buf, start, end, &opts.settings);
+        let max_residual = buf
+            .iter()
+            .zip(&solution.params)
+            .map(|(q, &u)| solution.curve.eval(u).distance(*q))
+            .fold(0.0, f64::max);
+        Piece {
+            solution,
+            max_residual,
+        }
+    };
+
+    // Initial fits and splitting.
+    let mut pieces: Vec<Piece> = (0..joints.len())
+        .map(|k| fit(&joints[k], &joints[(k + 1) % joints.len()], &mut buf))
+        .collect();
+    let mut k = 0;
+    while k < pieces.len() {
+        let m = joints.len();
+        let (a, b) = (joints[k], joints[(k + 1) % m]);
+        let len = run_len(n, a.index, b.index);
+        if pieces[k].max_residual > opts.tolerance && len >= 7 {
+            // Split at the worst point, away from the ends.
+            let sol = &pieces[k].solution;
+            cyclic_run(points, a.index, b.index, &mut buf);
+            let mut worst = len / 2;
+            let mut worst_d = -1.0;
+            for i in 3..len - 3 {
+                let d = sol.curve.eval(sol.params[i]).distance(buf[i]);
+                if d > worst_d {
+                    worst_d = d;
+                    worst = i;
+                }
+            }
+            let index = (a.index + worst) % n;
+            let mid = JointSpec {
+                index,
+                kind: JointKind::Smooth,
+                tangent: Some(estimate_tangent(points, index, opts.tangent_window)),
+            };
+            joints.insert(k + 1, mid);
+            let left = fit(&a, &mid, &mut buf);
+            let right = fit(&mid, &b, &mut buf);
+            pieces[k] = left;
+            pieces.insert(k + 1, right);
+            // Re-examine segment k (the left half) before moving on.
+            continue;
+        }
+        k += 1;
+    }
+
+    // Merging across smooth joints while within tolerance.
+    loop {
+        let mut merged_any = false;
+        let mut j = 0;
+        while j < joints.len() && joints.len() > 2 {
+            let m = joints.len();
+            if joints[j].kind == JointKind::Smooth {
+                let prev = (j + m - 1) % m;
+                let next = (j + 1) % m;
+                let candidate = fit(&joints[prev], &joints[next], &mut buf);
+                if candidate.max_residual <= opts.tolerance {
+                    // Segment `prev` runs joints[prev] → joints[j]; it absorbs segment j.
+                    joints.remove(j);
+                    let prev_after = if j == 0 { joints.len() - 1 } else { j - 1 };
+                    pieces.remove(j);
+                    pieces[prev_after] = candidate;
+                    merged_any = true;
+                    continue;
+                }
+            }
+            j += 1;
+        }
+        if !merged_any {
+            break;
+        }
+    }
+
+    assemble(seg, &joints, pieces, opts)
+}
+
+/// Builds the public result: final error statistics and joint data.
+fn assemble(
+    seg: &SegmentedContour,
+    joints: &[JointSpec],
+    pieces: Vec<Piece>,
+    opts: &LsqOptions,
+) -> FittedContour {
+    let points = &seg.points;
+    let n = points.len();
+    let m = joints.len();
+    let (arc, _) = {
+        let mut s = Vec::with_capacity(n);
+        let mut acc = 0.0;
+        for i in 0..n {
+            s.push(acc);
+            acc += points[i].distance(points[(i + 1) % n]);
+        }
+        (s, acc)
+    };
+    let mut buf = Vec::new();
+    let segments: Vec<FittedSegment> = pieces
+        .into_iter()
+        .enumerate()
+        .map(|(k, piece)| {
+            let started = Instant::now();
+            let (a, b) = (joints[k].index, joints[(k + 1) % m].index);
+            cyclic_run(points, a, b, &mut buf);
+            let error = segment_error(&piece.solution.curve, &buf, &piece.solution.params);
+            let seconds = if opts.timings {
+                started.elapsed().as_secs_f64()
+            } else {
+                0.0
+            };
+            FittedSegment {
+                curve: piece.solution.curve,
+                start: a,
+                end: b,
+                point_count: buf.len(),
+                params: piece.solution.params,
+                arc_range: [arc[a], arc[b]],
+                error,
+                evaluations: piece.solution.evaluations,
+                seconds,
+            }
+        })
+        .collect();
+    let joints_out = joint_report(&segments, joints.iter().map(|j| (j.index, j.kind)), points);
+    FittedContour {
+        points: points.clone(),
+        is_hole: seg.is_hole,
+        parent: seg.parent,
+        segments,
+        joints: joints_out,
+    }
+}
+
+/// Joint data (kind, tangent angle, β of Eq. 8) for a closed chain: joint i is where
+/// segment i − 1 ends and segment i starts.
+pub fn joint_report(
+    segments: &[FittedSegment],
+    joints: impl Iterator<Item = (usize, JointKind)>,
+    points: &[Point],
+) -> Vec<Joint> {
+    let m = segments.len();
+    joints
+        .enumerate()
+        .map(|(i, (index, kind))| {
+            let prev = &segments[(i + m - 1) % m].curve;
+            let next = &segments[i].curve;
+            let d_in = prev.end_derivative();
+            let d_out = next.start_derivative();
+            let beta = if d_in.length() > 0.0 {
+                d_out.length() / d_in.length()
+            } else {
+                f64::INFINITY
+            };
+            Joint {
+                kind,
+                position: points[index],
+                index,
+                angle: angle_between(d_in, d_out),
+                beta,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::breaks::{find_breaks, BreakOptions};
+    use crate::contour::Contour;
+
+    fn ellipse(n: usize) -> Vec<Point> {
+        (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                Point::new(60.0 + 40.0 * a.cos(), 50.0 + 25.0 * a.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn ellipse_is_fitted_within_tolerance_with_exact_g1_and_few_segments() {
+        let c = Contour {
+            points: ellipse(220),
+            is_hole: false,
+            parent: None,
+        };
+        let seg = find_breaks(&c, &BreakOptions::for_image(50.0, 128, 128));
+        let opts = LsqOptions {
+            tolerance: 0.05,
+            settings: FitSettings::default(),
+            tangent_window: 3.0,
+            timings: false,
+        };
+        let fitted = fit_contour(&seg, &opts);
+        assert!(
+            fitted.max_distance() <= 0.05 + 1e-9,
+            "{}",
+            fitted.max_distance()
+        );
+        // Rational cubics represent conics exactly: an ellipse needs few segments.
+        assert!(
+            fitted.segments.len() <= 4,
+            "{} segments",
+            fitted.segments.len()
+        );
+        for j in &fitted.joints {
+            assert_eq!(j.kind, JointKind::Smooth);
+            assert!(j.angle < 1e-9, "joint angle {}", j.angle);
+            assert!(j.beta > 0.0 && j.beta.is_finite());
+        }
+        // The chain is closed: each segment ends where the next starts.
+        let m = fitted.segments.len();
+        for k in 0..m {
+            let end = fitted.segments[k].curve.points[3];
+            let start = fitted.segments[(k + 1) % m].curve.points[0];
+            assert_eq!(end, start);
+        }
+    }
+
+    #[test]
+    fn tangent_of_a_circle_is_perpendicular_to_the_radius() {
+        let pts = ellipse(300)
+            .into_iter()
+            .map(|p| Point::new(60.0 + (p.x - 60.0), 50.0 + (p.y - 50.0) * 1.6))
+            .collect::<Vec<_>>();
+        let t = estimate_tangent(&pts, 10, 3.0);
+        let radial = pts[10] - Point::new(60.0, 50.0);
+        assert!(
+            t.dot(radial).abs() / radial.length() < 2e-3,
+            "{}",
+            t.dot(radial)
+        );
+    }
 }

@@ -66,7 +66,11 @@ impl FitSettings {
             polish_iterations: 400,
             polish_tolerance: 0.0,
             starts: 4,
-            initial: &[Parameterization::Centripetal, Parameterization::Chordal, Parameterization::Uniform],
+            initial: &[
+                Parameterization::Centripetal,
+                Parameterization::Chordal,
+                Parameterization::Uniform,
+            ],
         }
     }
 }
