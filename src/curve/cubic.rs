@@ -1,16 +1,752 @@
-//! Polynomial cubic Bézier segments (placeholder: being written).
+//! Polynomial cubic Bézier segments, and their use as a drawable stand-in for rational
+//! cubics.
+//!
+//! SVG (and most vector formats) can only draw polynomial cubics, while the fitter produces
+//! rational ones. [`approximate_with_cubics`] converts one rational segment into a short run
+//! of polynomial cubics:
+//!
+//! * a polynomial input (w1 = w2 = 1) is returned exactly, as one cubic with the same control
+//!   points;
+//! * otherwise one cubic is fitted with the same end points and the same end tangent
+//!   *directions* as the rational curve, so that every G1 joint of the outline stays G1 in the
+//!   drawing. Only the two tangent lengths are free. They start from a linear least-squares
+//!   fit to 31 interior samples of the rational curve with two rounds of parameter
+//!   correction (project each sample onto the current cubic, refit; Hoschek's intrinsic
+//!   parameterization). Parameter correction alone converges slowly (after 30 rounds it still
+//!   left errors up to 40× the optimum in our measurements), so the fit continues with the
+//!   *tangent distance* (the residual along the cubic's normal at each foot point, which is
+//!   linear in the two lengths), reweighted by Lawson's rule so that it heads for the
+//!   smallest maximum distance rather than the smallest sum of squares;
+//! * the geometric distance between the two curves is then measured both ways (each curve's
+//!   samples projected onto the other, the larger of the two maxima). If it exceeds the
+//!   bound, the rational curve is split at its parameter midpoint and both halves are
+//!   approximated in turn, sharing the tangent direction of the split point so that the
+//!   pieces meet G1 as well. (Choosing split points greedily, longest piece first, saved only
+//!   2 % of the pieces on random curves for 2.6× the work, so bisection stays.)
+//!
+//! How many pieces are needed depends on how far the curve is from any polynomial cubic:
+//! rational circular arcs up to a quarter circle of radius 70 px need one piece at 0.02 px;
+//! random control polygons with random weights in [0.2, 2.5] on 50-px curves mostly need two
+//! (see the `piece_counts_for_glyph_size_curves` test for the measured histogram).
+//!
+//! Limits, stated plainly: the distance is measured at 63 samples per direction, not
+//! bounded rigorously, so a narrow excursion between samples could exceed the bound slightly;
+//! subdivision stops at depth [`MAX_DEPTH`] (at most 2^8 pieces) and then keeps the best fit
+//! of that depth even if it misses the bound. Curves with non-finite coordinates produce
+//! non-finite cubics rather than an error; callers that write files check for that.
 
 use super::RationalCubic;
 use crate::geom::Point;
 
-/// A polynomial cubic Bézier segment.
+/// A polynomial cubic Bézier segment, B(t) = Σ B_k(t) P_k, t ∈ [0, 1].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CubicBez {
-    /// Control points.
+    /// Control points P0, P1, P2, P3.
     pub points: [Point; 4],
 }
 
+impl CubicBez {
+    /// A cubic from its four control points.
+    #[inline]
+    pub const fn new(p0: Point, p1: Point, p2: Point, p3: Point) -> Self {
+        CubicBez {
+            points: [p0, p1, p2, p3],
+        }
+    }
+
+    /// B(t).
+    #[inline]
+    pub fn eval(&self, t: f64) -> Point {
+        let b = super::bernstein(t);
+        let p = &self.points;
+        p[0] * b[0] + p[1] * b[1] + p[2] * b[2] + p[3] * b[3]
+    }
+
+    /// B'(t), the first derivative with respect to the parameter.
+    #[inline]
+    pub fn deriv(&self, t: f64) -> Point {
+        let p = &self.points;
+        let s = 1.0 - t;
+        ((p[1] - p[0]) * (s * s) + (p[2] - p[1]) * (2.0 * s * t) + (p[3] - p[2]) * (t * t)) * 3.0
+    }
+
+    /// B''(t), the second derivative with respect to the parameter.
+    #[inline]
+    pub fn deriv2(&self, t: f64) -> Point {
+        let p = &self.points;
+        let a = p[2] - p[1] * 2.0 + p[0];
+        let b = p[3] - p[2] * 2.0 + p[1];
+        (a * (1.0 - t) + b * t) * 6.0
+    }
+
+    /// Unit tangent at the start: the direction of P1 − P0, or of P2 − P0 when P1 = P0, or
+    /// of the chord when both coincide with P0. `None` only when all four points coincide.
+    pub fn start_tangent(&self) -> Option<Point> {
+        first_direction(
+            self.points[0],
+            [self.points[1], self.points[2], self.points[3]],
+        )
+    }
+
+    /// Unit tangent at the end (pointing in the direction of travel), with the same
+    /// fallbacks as [`CubicBez::start_tangent`] mirrored.
+    pub fn end_tangent(&self) -> Option<Point> {
+        first_direction(
+            self.points[3],
+            [self.points[2], self.points[1], self.points[0]],
+        )
+        .map(|d| -d)
+    }
+
+    /// Refines a parameter guess `t0` so that B(t) is the point of the curve nearest to `q`
+    /// (damped Newton's method on (B(t) − q)·B'(t) = 0, clamped to [0, 1], accepting only
+    /// steps that do not increase the distance). Returns `(t, |B(t) − q|)`. Converges to the
+    /// nearest point in the basin of `t0`; use [`CubicBez::nearest`] for the global one.
+    pub fn refine_projection(&self, q: Point, t0: f64) -> (f64, f64) {
+        let mut t = if t0.is_finite() {
+            t0.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let mut p = self.eval(t);
+        let mut dist2 = (p - q).length_squared();
+        for _ in 0..12 {
+            let d1 = self.deriv(t);
+            let d2 = self.deriv2(t);
+            let r = p - q;
+            let g = r.dot(d1);
+            let h = d1.length_squared() + r.dot(d2);
+            let step = if h > 1e-12 {
+                -g / h
+            } else {
+                -g / d1.length_squared().max(1e-12)
+            };
+            if !step.is_finite() || step.abs() < 1e-15 {
+                break;
+            }
+            let mut factor = 1.0;
+            let mut improved = false;
+            for _ in 0..6 {
+                let tn = (t + factor * step).clamp(0.0, 1.0);
+                let pn = self.eval(tn);
+                let dn = (pn - q).length_squared();
+                if dn <= dist2 {
+                    improved = tn != t;
+                    t = tn;
+                    p = pn;
+                    dist2 = dn;
+                    break;
+                }
+                factor *= 0.5;
+            }
+            if !improved {
+                break;
+            }
+        }
+        (t, dist2.sqrt())
+    }
+
+    /// The global nearest point of the curve to `q`: a scan of `samples + 1` evenly spaced
+    /// parameters picks the start, Newton refines it. Returns `(t, distance)`.
+    pub fn nearest(&self, q: Point, samples: usize) -> (f64, f64) {
+        let samples = samples.max(2);
+        let mut best_t = 0.0;
+        let mut best_d = f64::INFINITY;
+        for j in 0..=samples {
+            let t = j as f64 / samples as f64;
+            let d = (self.eval(t) - q).length_squared();
+            if d < best_d {
+                best_d = d;
+                best_t = t;
+            }
+        }
+        self.refine_projection(q, best_t)
+    }
+}
+
+impl From<CubicBez> for RationalCubic {
+    /// The same curve as a rational cubic with unit weights.
+    fn from(c: CubicBez) -> RationalCubic {
+        RationalCubic::new(c.points, [1.0, 1.0])
+    }
+}
+
+/// Subdivision depth after which [`approximate_with_cubics`] stops splitting.
+pub const MAX_DEPTH: u32 = 8;
+
+/// The fit uses the rational curve at u = k / FIT_INTERVALS, k = 1 … FIT_INTERVALS − 1 (the
+/// ends are interpolated exactly); the distance check adds the midpoints between them.
+const FIT_INTERVALS: usize = 32;
+
+/// Rounds of parameter correction of the first, point-distance least-squares fit.
+const CORRECTION_ROUNDS: usize = 2;
+
+/// Most rounds of the minimax (Lawson) polish on the tangent distance.
+const POLISH_ROUNDS: usize = 16;
+
 /// Approximates a rational cubic by polynomial cubics within `bound` pixels.
-pub fn approximate_with_cubics(curve: &RationalCubic, _bound: f64) -> Vec<CubicBez> {
-    vec![CubicBez { points: curve.points }]
+///
+/// Guarantees: the pieces form one continuous chain from `curve.points[0]` to
+/// `curve.points[3]` (exactly, bit for bit, at both ends and between pieces); the first piece
+/// starts and the last piece ends in the rational curve's own tangent directions, and
+/// consecutive pieces share their tangent direction, so G1 joints stay G1. A polynomial
+/// input comes back unchanged as one cubic.
+///
+/// Not guaranteed: the distance is measured at samples (see the module docs), so it is a
+/// close estimate rather than a proof; it is within `bound` unless subdivision reached
+/// [`MAX_DEPTH`]. A NaN bound or non-finite coordinates never subdivide; a bound ≤ 0
+/// subdivides to the cap.
+///
+/// Degenerate tangents (C1 = C0 or C2 = C3) fall back to the next control point, then the
+/// chord, which is where the rational curve actually leaves its end point.
+pub fn approximate_with_cubics(curve: &RationalCubic, bound: f64) -> Vec<CubicBez> {
+    if curve.is_polynomial() {
+        return vec![CubicBez {
+            points: curve.points,
+        }];
+    }
+    let start = start_direction(curve);
+    let end = end_direction(curve);
+    let mut out = Vec::new();
+    approximate_into(curve, start, end, bound, 0, &mut out);
+    out
+}
+
+/// The geometric distance between a rational cubic and a polynomial cubic, measured both
+/// ways: the larger of (max over samples of the rational curve of the distance to the
+/// cubic) and (max over samples of the cubic of the distance to the rational curve), with
+/// `samples − 1` evenly spaced interior samples per curve and global nearest-point searches.
+/// A measurement, not a rigorous bound; NaN if any coordinate is NaN.
+pub fn distance_between(curve: &RationalCubic, cubic: &CubicBez, samples: usize) -> f64 {
+    let samples = samples.max(2);
+    let mut worst: f64 = 0.0;
+    for j in 1..samples {
+        let u = j as f64 / samples as f64;
+        let d_to_cubic = cubic.nearest(curve.eval(u), 16).1;
+        let d_to_rational = curve.nearest(cubic.eval(u), 16).1;
+        // `max` would drop a NaN; keep it visible instead.
+        if d_to_cubic.is_nan() || d_to_rational.is_nan() {
+            return f64::NAN;
+        }
+        worst = worst.max(d_to_cubic).max(d_to_rational);
+    }
+    worst
+}
+
+fn approximate_into(
+    curve: &RationalCubic,
+    start: Point,
+    end: Point,
+    bound: f64,
+    depth: u32,
+    out: &mut Vec<CubicBez>,
+) {
+    let fit = fit_cubic(curve, start, end, bound);
+    let done = depth >= MAX_DEPTH
+        || !fit.worst.is_finite()
+        || !(fit.worst > bound || check_distance(curve, &fit) > bound);
+    if done {
+        out.push(fit.cubic);
+        return;
+    }
+    let (left, right) = curve.split(0.5);
+    // One shared direction for both sides of the split makes the pieces G1 exactly.
+    let mid = curve
+        .jet(0.5)
+        .d1
+        .normalized()
+        .unwrap_or_else(|| end_direction(&left));
+    approximate_into(&left, start, mid, bound, depth + 1, out);
+    approximate_into(&right, mid, end, bound, depth + 1, out);
+}
+
+/// The first non-degenerate direction from `origin` towards `candidates`, in order.
+fn first_direction(origin: Point, candidates: [Point; 3]) -> Option<Point> {
+    candidates.iter().find_map(|&c| (c - origin).normalized())
+}
+
+/// Where the rational curve leaves C0: towards C1, else C2, else C3 (zero if all coincide).
+fn start_direction(curve: &RationalCubic) -> Point {
+    let p = &curve.points;
+    first_direction(p[0], [p[1], p[2], p[3]]).unwrap_or(Point::ZERO)
+}
+
+/// Direction of travel where the rational curve arrives at C3: from C2, else C1, else C0.
+fn end_direction(curve: &RationalCubic) -> Point {
+    let p = &curve.points;
+    first_direction(p[3], [p[2], p[1], p[0]]).map_or(Point::ZERO, |d| -d)
+}
+
+/// A fitted cubic with what the distance check needs.
+struct CubicFit {
+    cubic: CubicBez,
+    /// Foot-point parameter on `cubic` of each fit sample u = k / FIT_INTERVALS, with the
+    /// ends: `params[0] = 0`, `params[FIT_INTERVALS] = 1`.
+    params: Vec<f64>,
+    /// Largest distance from a fit sample of the rational curve to the cubic.
+    worst: f64,
+}
+
+/// The cubic family of one fit: fixed ends and tangent directions, free lengths a, b.
+struct Family {
+    c0: Point,
+    c3: Point,
+    t0: Point,
+    t3: Point,
+    /// Smallest tangent length allowed: a zero or negative length would make the tangent
+    /// direction undefined or turn it around.
+    min_length: f64,
+}
+
+impl Family {
+    fn cubic(&self, (a, b): (f64, f64)) -> CubicBez {
+        CubicBez::new(
+            self.c0,
+            self.c0 + self.t0 * a,
+            self.c3 - self.t3 * b,
+            self.c3,
+        )
+    }
+
+    /// Least-squares (a, b) for fixed parameters, by the point distance when `normals` is
+    /// `None`, else by the tangent distance Σ λ_i (n_i·(B(s_i) − Q_i))².
+    ///
+    /// B(s) = (b0 + b1) C0 + (b2 + b3) C3 + a b1 t0 − b b2 t3 is linear in (a, b), so either
+    /// fit is a 2×2 normal system. For the point distance its determinant
+    /// Σb1²·Σb2² − (Σb1b2)²(t0·t3)² is positive for distinct parameters (Cauchy–Schwarz);
+    /// a singular system keeps `fallback`. Lengths below `min_length` are held at it and the
+    /// other length re-solved (an active set of size one).
+    fn solve(
+        &self,
+        samples: &[Point],
+        params: &[f64],
+        normals: Option<(&[Point], &[f64])>,
+        fallback: (f64, f64),
+    ) -> (f64, f64) {
+        let (mut a11, mut a12, mut a22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (i, (&q, &s)) in samples.iter().zip(params).enumerate() {
+            let b = super::bernstein(s);
+            let r = q - self.c0 * (b[0] + b[1]) - self.c3 * (b[2] + b[3]);
+            let g = self.t0 * b[1];
+            let h = self.t3 * -b[2];
+            // Project onto the normal for the tangent distance; weight by λ.
+            let (g, h, r, l) = match normals {
+                Some((n, lambda)) => (
+                    Point::new(n[i].dot(g), 0.0),
+                    Point::new(n[i].dot(h), 0.0),
+                    Point::new(n[i].dot(r), 0.0),
+                    lambda[i],
+                ),
+                None => (g, h, r, 1.0),
+            };
+            a11 += l * g.dot(g);
+            a12 += l * g.dot(h);
+            a22 += l * h.dot(h);
+            r1 += l * g.dot(r);
+            r2 += l * h.dot(r);
+        }
+        let det = a11 * a22 - a12 * a12;
+        let (mut a, mut b) = if det > 1e-12 * a11 * a22 && det.is_finite() {
+            ((r1 * a22 - r2 * a12) / det, (a11 * r2 - a12 * r1) / det)
+        } else {
+            fallback
+        };
+        if a < self.min_length {
+            a = self.min_length;
+            if a22 > 0.0 {
+                b = (r2 - a12 * a) / a22;
+            }
+        }
+        if b < self.min_length {
+            b = self.min_length;
+            if a11 > 0.0 {
+                a = (r1 - a12 * b) / a11;
+            }
+            a = a.max(self.min_length);
+        }
+        (a, b)
+    }
+}
+
+/// One cubic with the end points of `curve`, P1 = C0 + a·start and P2 = C3 − b·end, a, b > 0.
+///
+/// First a point-distance least-squares fit against the samples with chord-length
+/// parameters and [`CORRECTION_ROUNDS`] rounds of parameter correction; then up to
+/// [`POLISH_ROUNDS`] rounds that re-project the samples and minimise the weighted tangent
+/// distance, the weights updated by Lawson's rule (λ_i ∝ λ_i·d_i) so that the fit moves
+/// towards the smallest maximum distance. The tangent distance converges much faster than
+/// parameter correction (which stalled at several times the optimum in our measurements).
+/// Stops early once the largest sample distance is below `0.75·bound`, or when the fit is
+/// hopeless (more than 4·bound after four rounds), since it will be split anyway.
+fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> CubicFit {
+    let c0 = curve.points[0];
+    let c3 = curve.points[3];
+    let samples: Vec<Point> = (1..FIT_INTERVALS)
+        .map(|i| curve.eval(i as f64 / FIT_INTERVALS as f64))
+        .collect();
+    let scale = curve
+        .points
+        .iter()
+        .map(|p| p.distance(c0))
+        .fold(0.0, f64::max);
+    let family = Family {
+        c0,
+        c3,
+        t0: start,
+        t3: end,
+        min_length: 1e-3 * scale,
+    };
+    let chord_third = c0.distance(c3) / 3.0;
+    let mut params = chord_length_params(c0, &samples, c3);
+    let mut lengths = family.solve(&samples, &params, None, (chord_third, chord_third));
+    for _ in 0..CORRECTION_ROUNDS {
+        let cubic = family.cubic(lengths);
+        for (s, &q) in params.iter_mut().zip(&samples) {
+            *s = cubic.refine_projection(q, *s).0;
+        }
+        lengths = family.solve(&samples, &params, None, lengths);
+    }
+    let mut lambda = vec![1.0 / samples.len() as f64; samples.len()];
+    let mut normals = vec![Point::ZERO; samples.len()];
+    let mut best = (f64::INFINITY, lengths, params.clone());
+    for round in 0..POLISH_ROUNDS {
+        let cubic = family.cubic(lengths);
+        let mut worst: f64 = 0.0;
+        let mut total = 0.0;
+        for (i, &q) in samples.iter().enumerate() {
+            let (t, d) = cubic.refine_projection(q, params[i]);
+            params[i] = t;
+            if d.is_nan() {
+                worst = f64::NAN;
+            }
+            worst = worst.max(d);
+            normals[i] = cubic.deriv(t).perp().normalized().unwrap_or(Point::ZERO);
+            lambda[i] *= d.max(1e-9 * (1.0 + scale));
+            total += lambda[i];
+        }
+        if worst < best.0 {
+            best = (worst, lengths, params.clone());
+        }
+        let hopeless = round >= 3 && best.0 > 4.0 * bound;
+        let good_enough = best.0 <= 0.75 * bound;
+        if good_enough || hopeless || total <= 0.0 || total.is_nan() {
+            break;
+        }
+        for l in lambda.iter_mut() {
+            *l /= total;
+        }
+        lengths = family.solve(&samples, &params, Some((&normals, &lambda)), lengths);
+    }
+    let (worst, lengths, inner) = best;
+    let mut params = Vec::with_capacity(FIT_INTERVALS + 1);
+    params.push(0.0);
+    params.extend(inner);
+    params.push(1.0);
+    CubicFit {
+        cubic: family.cubic(lengths),
+        params,
+        worst,
+    }
+}
+
+/// The two-way distance of [`distance_between`] at the fit samples and the midpoints
+/// between them, with each projection started from the known correspondence of the fit
+/// instead of a global scan. A projection that stalls in a local minimum can only report a
+/// larger distance, so the shortcut errs towards splitting.
+fn check_distance(curve: &RationalCubic, fit: &CubicFit) -> f64 {
+    let n = FIT_INTERVALS;
+    let mut worst: f64 = 0.0;
+    for k in 0..n {
+        let (u0, u1) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
+        let (s0, s1) = (fit.params[k], fit.params[k + 1]);
+        let (um, sm) = (0.5 * (u0 + u1), 0.5 * (s0 + s1));
+        // The fit samples (k > 0) and the midpoints between them; the ends match exactly.
+        let pairs = [(um, sm), (u0, s0)];
+        for &(u, s) in &pairs[..if k > 0 { 2 } else { 1 }] {
+            let d1 = fit.cubic.refine_projection(curve.eval(u), s).1;
+            let d2 = curve.refine_projection(fit.cubic.eval(s), u).1;
+            if d1.is_nan() || d2.is_nan() {
+                return f64::NAN;
+            }
+            worst = worst.max(d1).max(d2);
+        }
+    }
+    worst
+}
+
+/// Normalized cumulative chord lengths of `samples` between the fixed ends.
+fn chord_length_params(c0: Point, samples: &[Point], c3: Point) -> Vec<f64> {
+    let mut acc = Vec::with_capacity(samples.len());
+    let mut total = 0.0;
+    let mut prev = c0;
+    for &q in samples {
+        total += q.distance(prev);
+        acc.push(total);
+        prev = q;
+    }
+    total += c3.distance(prev);
+    let n = samples.len() + 1;
+    acc.iter()
+        .enumerate()
+        .map(|(i, &s)| {
+            if total > 0.0 && total.is_finite() {
+                s / total
+            } else {
+                (i + 1) as f64 / n as f64
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::angle_between;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A random glyph-like rational segment spanning about `span` pixels.
+    fn random_curve(rng: &mut ChaCha8Rng, span: f64, weights: (f64, f64)) -> RationalCubic {
+        let k = span / 60.0;
+        let p = |x: f64, y: f64| Point::new(x * k, y * k);
+        RationalCubic::new(
+            [
+                p(0.0, 0.0),
+                p(rng.random_range(5.0..25.0), rng.random_range(10.0..40.0)),
+                p(rng.random_range(35.0..55.0), rng.random_range(10.0..40.0)),
+                p(60.0, rng.random_range(-5.0..5.0)),
+            ],
+            [
+                rng.random_range(weights.0..weights.1),
+                rng.random_range(weights.0..weights.1),
+            ],
+        )
+    }
+
+    fn assert_chain(curve: &RationalCubic, pieces: &[CubicBez]) {
+        assert_eq!(pieces[0].points[0], curve.points[0]);
+        assert_eq!(pieces[pieces.len() - 1].points[3], curve.points[3]);
+        for pair in pieces.windows(2) {
+            assert_eq!(pair[0].points[3], pair[1].points[0]);
+            let (Some(t_in), Some(t_out)) = (pair[0].end_tangent(), pair[1].start_tangent()) else {
+                panic!("degenerate tangent at an inner joint");
+            };
+            assert!(angle_between(t_in, t_out) < 1e-9);
+        }
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let c = CubicBez::new(
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 3.0),
+            Point::new(4.0, 3.5),
+            Point::new(5.0, 0.5),
+        );
+        let h = 1e-6;
+        for &t in &[0.0, 0.2, 0.7, 1.0] {
+            let fd1 = (c.eval(t + h) - c.eval(t - h)) / (2.0 * h);
+            let fd2 = (c.eval(t + h) - c.eval(t) * 2.0 + c.eval(t - h)) / (h * h);
+            assert!((c.deriv(t) - fd1).length() < 1e-7);
+            assert!((c.deriv2(t) - fd2).length() < 1e-3);
+        }
+        // The cubic agrees with the rational evaluator at unit weights.
+        let r: RationalCubic = c.into();
+        for j in 0..=10 {
+            let t = j as f64 / 10.0;
+            assert!(c.eval(t).distance(r.eval(t)) < 1e-14);
+        }
+    }
+
+    #[test]
+    fn nearest_recovers_parameter_of_offset_point() {
+        let c = CubicBez::new(
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 30.0),
+            Point::new(40.0, 35.0),
+            Point::new(50.0, 5.0),
+        );
+        for &t in &[0.03, 0.5, 0.91] {
+            let normal = c.deriv(t).perp().normalized().unwrap();
+            let (tt, d) = c.nearest(c.eval(t) + normal * 0.3, 32);
+            assert!((tt - t).abs() < 1e-9, "{tt} vs {t}");
+            assert!((d - 0.3).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn polynomial_input_is_returned_exactly() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut c = random_curve(&mut rng, 50.0, (0.5, 2.0));
+        c.weights = [1.0, 1.0];
+        let pieces = approximate_with_cubics(&c, 1e-9);
+        assert_eq!(pieces, vec![CubicBez { points: c.points }]);
+    }
+
+    #[test]
+    fn random_rational_curves_are_within_bound_and_g1() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for _ in 0..60 {
+            let c = random_curve(&mut rng, 50.0, (0.2, 2.5));
+            for &bound in &[0.05, 0.02, 0.005] {
+                let pieces = approximate_with_cubics(&c, bound);
+                assert!(pieces.len() < 1 << MAX_DEPTH);
+                assert_chain(&c, &pieces);
+                // Ends keep the rational curve's own tangent directions.
+                let t0 = c.start_tangent().unwrap();
+                let t3 = c.end_tangent().unwrap();
+                assert!(angle_between(pieces[0].start_tangent().unwrap(), t0) < 1e-9);
+                assert!(angle_between(pieces[pieces.len() - 1].end_tangent().unwrap(), t3) < 1e-9);
+                // Every piece is within the bound of the rational curve, measured densely
+                // (4× the internal sampling) from both sides.
+                for piece in &pieces {
+                    for j in 0..=256 {
+                        let s = j as f64 / 256.0;
+                        assert!(c.nearest(piece.eval(s), 64).1 <= bound * 1.05);
+                    }
+                }
+                let dense_max = (0..=256)
+                    .map(|j| {
+                        let q = c.eval(j as f64 / 256.0);
+                        pieces
+                            .iter()
+                            .map(|p| p.nearest(q, 32).1)
+                            .fold(f64::INFINITY, f64::min)
+                    })
+                    .fold(0.0, f64::max);
+                assert!(dense_max <= bound * 1.05, "{dense_max} > {bound}");
+            }
+        }
+    }
+
+    #[test]
+    fn g1_joints_between_rational_segments_stay_g1() {
+        // Two rational segments meeting G1 at (30, 10) with different handle lengths.
+        let joint = Point::new(30.0, 10.0);
+        let dir = Point::new(0.6, 0.8);
+        let a = RationalCubic::new(
+            [
+                Point::new(0.0, 0.0),
+                Point::new(8.0, 14.0),
+                joint - dir * 9.0,
+                joint,
+            ],
+            [0.35, 2.3],
+        );
+        let b = RationalCubic::new(
+            [
+                joint,
+                joint + dir * 4.0,
+                Point::new(55.0, 30.0),
+                Point::new(60.0, 0.0),
+            ],
+            [2.1, 0.45],
+        );
+        let pa = approximate_with_cubics(&a, 0.02);
+        let pb = approximate_with_cubics(&b, 0.02);
+        let t_in = pa[pa.len() - 1].end_tangent().unwrap();
+        let t_out = pb[0].start_tangent().unwrap();
+        assert!(angle_between(t_in, t_out) < 1e-9);
+        assert!(angle_between(t_in, dir) < 1e-9);
+    }
+
+    #[test]
+    fn degenerate_tangents_fall_back_without_panicking() {
+        let p0 = Point::new(1.0, 1.0);
+        let p3 = Point::new(21.0, 1.0);
+        // C1 = C0: the curve leaves towards C2.
+        let c = RationalCubic::new([p0, p0, Point::new(15.0, 12.0), p3], [1.7, 0.6]);
+        let pieces = approximate_with_cubics(&c, 0.02);
+        assert_chain(&c, &pieces);
+        let expected = (Point::new(15.0, 12.0) - p0).normalized().unwrap();
+        assert!(angle_between(pieces[0].start_tangent().unwrap(), expected) < 1e-9);
+        // C1 = C0 and C2 = C3: a straight segment, tangents along the chord.
+        let line = RationalCubic::new([p0, p0, p3, p3], [0.4, 2.0]);
+        let pieces = approximate_with_cubics(&line, 0.02);
+        assert_chain(&line, &pieces);
+        for piece in &pieces {
+            for j in 0..=8 {
+                assert!((piece.eval(j as f64 / 8.0).y - 1.0).abs() < 1e-12);
+            }
+        }
+        // All points equal: a point, one piece, no NaN.
+        let dot = RationalCubic::new([p0; 4], [0.5, 2.0]);
+        let pieces = approximate_with_cubics(&dot, 0.02);
+        assert_eq!(pieces, vec![CubicBez { points: [p0; 4] }]);
+        // Non-finite input does not panic and does not subdivide.
+        let bad = RationalCubic::new([p0, Point::new(f64::NAN, 0.0), p3, p3], [0.5, 2.0]);
+        assert_eq!(approximate_with_cubics(&bad, 0.02).len(), 1);
+    }
+
+    /// Measured piece counts, the number the SVG benchmark pays for. Fixed seeds, so a
+    /// change of the fit or of the sampling shows up here.
+    ///
+    /// Measured (200 random 50-px segments, the control polygons of `random_curve`):
+    /// weights in [0.2, 2.5] at bound 0.02 px → 10 need one piece, 168 two, 16 three, 6 four
+    /// (418 pieces, 2.09 per curve); weights in [0.3, 2.5] at 0.05 px → 23 / 172 / 5 / 0
+    /// (382 pieces). Random weights on a random polygon are far from polynomial (a single
+    /// cubic misses by 0.05–4 px), so one piece is the exception there. Rational circular
+    /// arcs, the typical rational shape in glyphs, need one piece up to a quarter circle of
+    /// radius 70 px at 0.02 px.
+    #[test]
+    fn piece_counts_for_glyph_size_curves() {
+        let count = |span: f64, weights: (f64, f64), bound: f64| {
+            let mut rng = ChaCha8Rng::seed_from_u64(5);
+            let mut histogram = [0usize; 5];
+            let mut total = 0;
+            for _ in 0..200 {
+                let c = random_curve(&mut rng, span, weights);
+                let n = approximate_with_cubics(&c, bound).len();
+                histogram[n.min(4)] += 1;
+                total += n;
+            }
+            (histogram, total)
+        };
+        let (h, total) = count(50.0, (0.2, 2.5), 0.02);
+        eprintln!("50 px, w in [0.2, 2.5], bound 0.02: pieces {h:?}, total {total}");
+        assert!(total <= 425, "{h:?}");
+        assert!(h[1] + h[2] >= 170, "{h:?}");
+        let (h, total) = count(50.0, (0.3, 2.5), 0.05);
+        eprintln!("50 px, w in [0.3, 2.5], bound 0.05: pieces {h:?}, total {total}");
+        assert!(total <= 390, "{h:?}");
+        // Quarter circles as degree-elevated conics: one piece up to r = 70 at 0.02 px.
+        for &r in &[5.0, 25.0, 70.0] {
+            let arc = quarter_arc(Point::new(100.0, 100.0), r, 0.3);
+            assert_eq!(approximate_with_cubics(&arc, 0.02).len(), 1, "r = {r}");
+        }
+        let arc = quarter_arc(Point::new(100.0, 100.0), 200.0, 0.3);
+        assert_eq!(approximate_with_cubics(&arc, 0.02).len(), 2);
+    }
+
+    /// A quarter circle of radius `r` around `center` starting at angle `phi`, exact as a
+    /// rational cubic: the conic (w = cos 45°) degree-elevated, w1 = w2 = (1 + 2w) / 3.
+    fn quarter_arc(center: Point, r: f64, phi: f64) -> RationalCubic {
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        let at = |a: f64| center + Point::new(a.cos(), a.sin()) * r;
+        let (p0, p2) = (at(phi), at(phi + std::f64::consts::FRAC_PI_2));
+        let p1 = center
+            + Point::new(
+                (phi + std::f64::consts::FRAC_PI_4).cos(),
+                (phi + std::f64::consts::FRAC_PI_4).sin(),
+            ) * (r * std::f64::consts::SQRT_2);
+        let w1 = (1.0 + 2.0 * w) / 3.0;
+        RationalCubic::new(
+            [
+                p0,
+                (p0 + p1 * (2.0 * w)) / (1.0 + 2.0 * w),
+                (p1 * (2.0 * w) + p2) / (1.0 + 2.0 * w),
+                p2,
+            ],
+            [w1, w1],
+        )
+    }
+
+    #[test]
+    fn quarter_arc_is_a_circle() {
+        let c = quarter_arc(Point::new(3.0, 4.0), 10.0, 0.7);
+        for j in 0..=20 {
+            let d = c.eval(j as f64 / 20.0).distance(Point::new(3.0, 4.0));
+            assert!((d - 10.0).abs() < 1e-12, "{d}");
+        }
+    }
 }
