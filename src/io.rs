@@ -1,1 +1,229 @@
-//! File output helpers (placeholder: being written by a helper).
+//! Safe output: every file the library or the CLI writes goes through [`write_atomic`].
+//!
+//! The bytes are written to a temporary file next to the target (same directory, so the
+//! final rename cannot cross file systems) and then renamed over the target. A reader, or a
+//! crash of this process halfway through, therefore sees either the old file or the whole
+//! new one, never a truncated mix. On any failure the temporary file is removed.
+//!
+//! Limits: the data is not `fsync`ed, so a power loss right after the rename may still lose
+//! the new content on some file systems (the cost of an fsync per file would dominate batch
+//! runs over many small glyphs). Folders are never created here: a missing output folder is
+//! reported as an error, usually a typo the user wants to hear about. The path `-`
+//! (standard output) is the CLI's business, not this module's.
+
+use crate::error::{Error, Result};
+use std::fs::{self, OpenOptions};
+use std::io::{self, Write};
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Distinguishes temporary files of concurrent writes within one process.
+static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `bytes` to `path` atomically: to a temporary file `<name>.tmp-<pid>-<n>` in the
+/// same directory, then renamed over `path`, replacing an existing file whole (its
+/// permissions are kept).
+///
+/// Errors: [`Error::Write`] naming `path` when the parent folder does not exist, `path` has
+/// no file name, or any step fails; the temporary file is removed in every failure case.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let fail = |source: io::Error| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let Some(name) = path.file_name() else {
+        return Err(fail(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "the output path does not name a file",
+        )));
+    };
+    let dir = parent_dir(path);
+    ensure_output_dir_exists(dir).map_err(|e| match e {
+        Error::Write { source, .. } => fail(source),
+        other => other,
+    })?;
+    let mut temp_name = name.to_os_string();
+    temp_name.push(format!(
+        ".tmp-{}-{}",
+        std::process::id(),
+        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let temp = dir.join(temp_name);
+    let result = write_new(&temp, bytes).and_then(|()| {
+        if let Ok(meta) = fs::metadata(path) {
+            // Best effort: a replaced file keeps its permissions.
+            let _ = fs::set_permissions(&temp, meta.permissions());
+        }
+        fs::rename(&temp, path)
+    });
+    result.map_err(|source| {
+        // The temporary may or may not exist, depending on which step failed.
+        let _ = fs::remove_file(&temp);
+        fail(source)
+    })
+}
+
+/// Checks that the folder `dir` exists and is a folder, so that a run can fail before doing
+/// any work. An empty path means the current directory. For an output file, pass its
+/// folder: `Path::parent`, which is empty for a bare file name.
+///
+/// Errors: [`Error::Write`] naming `dir`, with a `NotFound` or `NotADirectory` source.
+pub fn ensure_output_dir_exists(dir: &Path) -> Result<()> {
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let fail = |source: io::Error| Error::Write {
+        path: dir.to_path_buf(),
+        source,
+    };
+    match fs::metadata(dir) {
+        Ok(meta) if meta.is_dir() => Ok(()),
+        Ok(_) => Err(fail(io::Error::new(
+            io::ErrorKind::NotADirectory,
+            "not a folder",
+        ))),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Err(fail(io::Error::new(
+            io::ErrorKind::NotFound,
+            "the output folder does not exist (it is not created automatically)",
+        ))),
+        Err(e) => Err(fail(e)),
+    }
+}
+
+/// The folder holding `path`; `.` for a bare file name.
+fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Creates `temp` (which must not exist yet) and writes `bytes` into it.
+fn write_new(temp: &Path, bytes: &[u8]) -> io::Result<()> {
+    let mut file = OpenOptions::new().write(true).create_new(true).open(temp)?;
+    file.write_all(bytes)?;
+    file.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    /// A fresh, empty folder under the system temp dir, unique per test.
+    fn scratch(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("outlinefit-io-{}-{}", name, std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn entries(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn writes_and_replaces_whole_file_without_leftovers() {
+        let dir = scratch("replace");
+        let target = dir.join("out.svg");
+        write_atomic(&target, b"a long first version of the file").unwrap();
+        assert_eq!(
+            fs::read(&target).unwrap(),
+            b"a long first version of the file"
+        );
+        write_atomic(&target, b"short").unwrap();
+        // Replaced whole: no tail of the longer old content survives.
+        assert_eq!(fs::read(&target).unwrap(), b"short");
+        assert_eq!(entries(&dir), vec!["out.svg".to_string()]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn missing_folder_is_a_write_error_and_is_not_created() {
+        let dir = scratch("missing");
+        let target = dir.join("no-such-folder").join("out.svg");
+        match write_atomic(&target, b"x") {
+            Err(Error::Write { path, source }) => {
+                assert_eq!(path, target);
+                assert_eq!(source.kind(), io::ErrorKind::NotFound);
+            }
+            other => panic!("expected Error::Write, got {other:?}"),
+        }
+        assert!(!dir.join("no-such-folder").exists());
+        assert!(entries(&dir).is_empty());
+        assert!(matches!(
+            ensure_output_dir_exists(&dir.join("no-such-folder")),
+            Err(Error::Write { .. })
+        ));
+        ensure_output_dir_exists(&dir).unwrap();
+        ensure_output_dir_exists(Path::new("")).unwrap();
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn failed_rename_removes_the_temporary() {
+        let dir = scratch("failed");
+        // The target is a non-empty folder: the temporary is written, the rename fails.
+        let target = dir.join("taken");
+        fs::create_dir(&target).unwrap();
+        fs::write(target.join("keep"), b"k").unwrap();
+        let err = write_atomic(&target, b"data").unwrap_err();
+        assert!(matches!(err, Error::Write { ref path, .. } if path == &target));
+        assert_eq!(entries(&dir), vec!["taken".to_string()]);
+        assert_eq!(fs::read(target.join("keep")).unwrap(), b"k");
+        // A file used as a folder is reported too, and nothing is left behind.
+        let file = dir.join("plain");
+        fs::write(&file, b"p").unwrap();
+        assert!(matches!(
+            write_atomic(&file.join("out.svg"), b"x"),
+            Err(Error::Write { .. })
+        ));
+        assert!(matches!(
+            ensure_output_dir_exists(&file),
+            Err(Error::Write { .. })
+        ));
+        assert_eq!(
+            entries(&dir),
+            vec!["plain".to_string(), "taken".to_string()]
+        );
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn path_without_file_name_is_rejected() {
+        assert!(matches!(
+            write_atomic(Path::new("/"), b"x"),
+            Err(Error::Write { .. })
+        ));
+    }
+
+    #[test]
+    fn concurrent_writes_use_distinct_temporaries() {
+        let dir = scratch("concurrent");
+        let handles: Vec<_> = (0..8)
+            .map(|i| {
+                let target = dir.join(format!("f{i}.txt"));
+                std::thread::spawn(move || write_atomic(&target, format!("{i}").as_bytes()))
+            })
+            .collect();
+        for h in handles {
+            h.join().unwrap().unwrap();
+        }
+        assert_eq!(entries(&dir).len(), 8);
+        for i in 0..8 {
+            assert_eq!(
+                fs::read_to_string(dir.join(format!("f{i}.txt"))).unwrap(),
+                i.to_string()
+            );
+        }
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}
