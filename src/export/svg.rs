@@ -1,0 +1,591 @@
+//! The traced outline as an SVG document.
+//!
+//! One `<path>` per shape: an outer border together with every hole whose `parent` is that
+//! border, filled with `fill-rule="evenodd"` (outer borders and holes run in opposite
+//! directions, so `nonzero` would work too; `evenodd` does not depend on it). Each closed
+//! contour becomes `M x0 y0`, one `C` per polynomial cubic, then `Z`. Islands inside holes
+//! are outer borders of their own and get their own path.
+//!
+//! SVG cannot draw rational curves, so each rational segment goes through
+//! [`approximate_with_cubics`] with [`SvgOptions::bound`]: polynomial segments are written
+//! exactly, rational ones as one or more cubics whose measured distance to the rational
+//! curve is within the bound, and G1 joints stay G1. The exact rational data belongs in the
+//! JSON report.
+//!
+//! The document uses input pixel units (`viewBox="0 0 W H"`, x right, y down). Numbers are
+//! written by a small hand-made formatter: fixed decimals, trailing zeros trimmed, never
+//! `-0`, so identical results give byte-identical files. Rounding to `precision` decimals
+//! moves points by at most half a unit of the last decimal (0.0005 px by default), on top of
+//! the approximation bound.
+//!
+//! Nothing is dropped silently: a contour with non-finite coordinates, or a hole without an
+//! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
+//! would be filled). Contours without segments have nothing to draw and are skipped.
+
+use crate::curve::{approximate_with_cubics, CubicBez};
+use crate::fit::FittedContour;
+use crate::geom::Point;
+use crate::TraceResult;
+use std::fmt::Write as _;
+
+/// Largest number of decimals written; more would only print floating-point noise.
+pub const MAX_PRECISION: usize = 12;
+
+/// How [`to_svg`] writes the outline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvgOptions {
+    /// Largest distance, in pixels, between a rational segment and the polynomial cubics
+    /// that draw it. Non-positive or non-finite values are replaced by the default.
+    /// Default: 0.02.
+    pub bound: f64,
+    /// Decimals of every coordinate, at most [`MAX_PRECISION`]. Default: 3 (0.001 px).
+    pub precision: usize,
+    /// The fill colour, any SVG paint (escaped when written). Default: `#000000`.
+    pub fill: String,
+}
+
+impl Default for SvgOptions {
+    fn default() -> Self {
+        SvgOptions {
+            bound: DEFAULT_BOUND,
+            precision: 3,
+            fill: "#000000".to_string(),
+        }
+    }
+}
+
+/// The default approximation bound, in pixels.
+const DEFAULT_BOUND: f64 = 0.02;
+
+impl SvgOptions {
+    /// Options matched to a fitting tolerance: the approximation may add at most a
+    /// twentieth of it, `bound = tolerance / 20` clamped to [0.005, 0.05] px (the default
+    /// tolerance 0.4 gives the default bound 0.02). A non-positive or non-finite tolerance
+    /// gives the defaults.
+    pub fn for_tolerance(tolerance: f64) -> Self {
+        let bound = if tolerance.is_finite() && tolerance > 0.0 {
+            (tolerance / 20.0).clamp(0.005, 0.05)
+        } else {
+            DEFAULT_BOUND
+        };
+        SvgOptions {
+            bound,
+            ..SvgOptions::default()
+        }
+    }
+
+    /// The bound actually used: [`SvgOptions::bound`] if it is a positive number.
+    pub(crate) fn effective_bound(&self) -> f64 {
+        effective_bound(self.bound)
+    }
+}
+
+/// `bound` if it is a positive finite number, else the default.
+pub(crate) fn effective_bound(bound: f64) -> f64 {
+    if bound.is_finite() && bound > 0.0 {
+        bound
+    } else {
+        DEFAULT_BOUND
+    }
+}
+
+/// Writes the traced outline as an SVG document (see the module docs for the layout).
+/// Deterministic: the same result and options give the same bytes.
+pub fn to_svg(result: &TraceResult, opts: &SvgOptions) -> String {
+    let precision = opts.precision.min(MAX_PRECISION);
+    let bound = opts.effective_bound();
+    let mut out = String::new();
+    write_svg_open(&mut out, result.image.width, result.image.height, None);
+    let contours = &result.contours;
+    let mut holes_of: Vec<Vec<usize>> = vec![Vec::new(); contours.len()];
+    for (i, c) in contours.iter().enumerate() {
+        if !c.is_hole {
+            continue;
+        }
+        match c.parent {
+            Some(p) if p < contours.len() && !contours[p].is_hole => holes_of[p].push(i),
+            _ => {
+                if !c.segments.is_empty() {
+                    let _ = writeln!(
+                        out,
+                        "<!-- contour {i} skipped: a hole without an outer border -->"
+                    );
+                }
+            }
+        }
+    }
+    let fill = escape_attribute(&opts.fill);
+    for (i, c) in contours.iter().enumerate() {
+        if c.is_hole {
+            continue;
+        }
+        let mut data = String::new();
+        for k in std::iter::once(i).chain(holes_of[i].iter().copied()) {
+            match contour_path_data(&contours[k], bound, precision) {
+                ContourPath::Data(d) => data.push_str(&d),
+                ContourPath::Empty => {}
+                ContourPath::NonFinite => {
+                    let _ = writeln!(out, "<!-- contour {k} skipped: non-finite coordinates -->");
+                }
+            }
+        }
+        if !data.is_empty() {
+            let _ = writeln!(
+                out,
+                "<path fill=\"{fill}\" fill-rule=\"evenodd\" d=\"{data}\"/>"
+            );
+        }
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// Writes the opening `<svg>` tag in input pixel units, with an optional display size
+/// (`width`/`height` attributes) different from the viewBox.
+pub(crate) fn write_svg_open(
+    out: &mut String,
+    width: u32,
+    height: u32,
+    display: Option<(u64, u64)>,
+) {
+    let (dw, dh) = display.unwrap_or((u64::from(width), u64::from(height)));
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{dw}\" height=\"{dh}\" \
+         viewBox=\"0 0 {width} {height}\">"
+    );
+}
+
+/// The path data of one contour, or why there is none.
+pub(crate) enum ContourPath {
+    /// `M … C … Z`.
+    Data(String),
+    /// The contour has no segments.
+    Empty,
+    /// Some coordinate (of the curves or of their cubic approximation) is not finite.
+    NonFinite,
+}
+
+/// Path data of one closed contour: `M x0 y0`, one `C` per cubic, `Z`. Where a segment
+/// does not start where the previous one ended (after rounding), an `L` bridges the gap
+/// rather than hiding it.
+pub(crate) fn contour_path_data(
+    contour: &FittedContour,
+    bound: f64,
+    precision: usize,
+) -> ContourPath {
+    let Some(first) = contour.segments.first() else {
+        return ContourPath::Empty;
+    };
+    let pieces: Vec<Vec<CubicBez>> = contour
+        .segments
+        .iter()
+        .map(|s| approximate_with_cubics(&s.curve, bound))
+        .collect();
+    let finite = contour
+        .segments
+        .iter()
+        .all(|s| s.curve.points.iter().all(|p| p.is_finite()))
+        && pieces
+            .iter()
+            .flatten()
+            .all(|c| c.points.iter().all(|p| p.is_finite()));
+    if !finite {
+        return ContourPath::NonFinite;
+    }
+    let mut d = String::new();
+    let mut pen = format_point(first.curve.points[0], precision);
+    d.push('M');
+    d.push_str(&pen);
+    for (segment, cubics) in contour.segments.iter().zip(&pieces) {
+        let start = format_point(segment.curve.points[0], precision);
+        if start != pen {
+            d.push('L');
+            d.push_str(&start);
+        }
+        for c in cubics {
+            d.push('C');
+            for (k, &p) in c.points[1..].iter().enumerate() {
+                if k > 0 {
+                    d.push(' ');
+                }
+                write_point(&mut d, p, precision);
+            }
+            pen = format_point(c.points[3], precision);
+        }
+    }
+    d.push('Z');
+    ContourPath::Data(d)
+}
+
+/// `x y` with [`write_number`].
+pub(crate) fn write_point(out: &mut String, p: Point, precision: usize) {
+    write_number(out, p.x, precision);
+    out.push(' ');
+    write_number(out, p.y, precision);
+}
+
+fn format_point(p: Point, precision: usize) -> String {
+    let mut s = String::new();
+    write_point(&mut s, p, precision);
+    s
+}
+
+/// Appends `x` rounded to `precision` decimals (at most [`MAX_PRECISION`]), with trailing
+/// zeros and a trailing point trimmed and `-0` written as `0`: `12.5`, `3`, `-0.001`.
+/// Non-finite values, which callers filter out beforehand, are written as `0` so that the
+/// document stays valid.
+pub(crate) fn write_number(out: &mut String, x: f64, precision: usize) {
+    if !x.is_finite() {
+        out.push('0');
+        return;
+    }
+    let s = format!("{:.*}", precision.min(MAX_PRECISION), x);
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        s.as_str()
+    };
+    out.push_str(if s == "-0" { "0" } else { s });
+}
+
+/// Escapes `&`, `<`, `>`, `"` and `'` for use inside a double-quoted attribute.
+pub(crate) fn escape_attribute(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::curve::RationalCubic;
+    use crate::fit::{FittedSegment, Joint, JointKind, SegmentError};
+    use crate::ImageInfo;
+    use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_4, SQRT_2};
+
+    /// A quarter circle as an exact rational cubic (degree-elevated conic, w = cos 45°).
+    pub(crate) fn quarter_arc(center: Point, r: f64, from: f64, to: f64) -> RationalCubic {
+        let w = FRAC_1_SQRT_2;
+        let at = |a: f64| center + Point::new(a.cos(), a.sin()) * r;
+        let mid = 0.5 * (from + to);
+        let (p0, p2) = (at(from), at(to));
+        let p1 = center + Point::new(mid.cos(), mid.sin()) * (r * SQRT_2);
+        let w1 = (1.0 + 2.0 * w) / 3.0;
+        RationalCubic::new(
+            [
+                p0,
+                (p0 + p1 * (2.0 * w)) / (1.0 + 2.0 * w),
+                (p1 * (2.0 * w) + p2) / (1.0 + 2.0 * w),
+                p2,
+            ],
+            [w1, w1],
+        )
+    }
+
+    fn segment(curve: RationalCubic) -> FittedSegment {
+        FittedSegment {
+            curve,
+            start: 0,
+            end: 0,
+            point_count: 2,
+            params: vec![0.0, 1.0],
+            arc_range: [0.0, 0.0],
+            error: SegmentError::default(),
+            evaluations: 0,
+            seconds: 0.0,
+            on_search_boundary: None,
+        }
+    }
+
+    /// A circle of four rational quarter arcs; clockwise on screen (outer) unless `hole`.
+    pub(crate) fn circle(
+        center: Point,
+        r: f64,
+        hole: bool,
+        parent: Option<usize>,
+    ) -> FittedContour {
+        let q = if hole { -FRAC_PI_2 } else { FRAC_PI_2 };
+        let segments: Vec<FittedSegment> = (0..4)
+            .map(|k| segment(quarter_arc(center, r, k as f64 * q, (k + 1) as f64 * q)))
+            .collect();
+        let joints = segments
+            .iter()
+            .enumerate()
+            .map(|(k, s)| Joint {
+                kind: if k == 0 {
+                    JointKind::Corner
+                } else {
+                    JointKind::Smooth
+                },
+                position: s.curve.points[0],
+                index: k,
+                angle: 0.0,
+                beta: 1.0,
+            })
+            .collect();
+        let points = (0..16)
+            .map(|k| {
+                let a = k as f64 * q / 4.0;
+                center + Point::new(a.cos(), a.sin()) * r
+            })
+            .collect();
+        FittedContour {
+            points,
+            is_hole: hole,
+            parent,
+            segments,
+            joints,
+        }
+    }
+
+    pub(crate) fn result(width: u32, height: u32, contours: Vec<FittedContour>) -> TraceResult {
+        TraceResult {
+            image: ImageInfo {
+                width,
+                height,
+                threshold: 0.5,
+                bilevel: true,
+                from_alpha: false,
+                dark_border: false,
+            },
+            contours,
+            seconds: 0.0,
+        }
+    }
+
+    /// The `d` attributes of every `<path>`.
+    fn path_data(svg: &str) -> Vec<String> {
+        svg.split("<path")
+            .skip(1)
+            .map(|p| {
+                let start = p.find(" d=\"").unwrap() + 4;
+                let end = start + p[start..].find('"').unwrap();
+                p[start..end].to_string()
+            })
+            .collect()
+    }
+
+    /// Path data as (command, numbers) pairs.
+    fn parse_path(d: &str) -> Vec<(char, Vec<f64>)> {
+        let mut out: Vec<(char, Vec<f64>)> = Vec::new();
+        let mut number = String::new();
+        let flush = |number: &mut String, out: &mut Vec<(char, Vec<f64>)>| {
+            if !number.is_empty() {
+                out.last_mut().unwrap().1.push(number.parse().unwrap());
+                number.clear();
+            }
+        };
+        for ch in d.chars() {
+            if ch.is_ascii_alphabetic() {
+                flush(&mut number, &mut out);
+                out.push((ch, Vec::new()));
+            } else if ch == ' ' {
+                flush(&mut number, &mut out);
+            } else {
+                number.push(ch);
+            }
+        }
+        flush(&mut number, &mut out);
+        out
+    }
+
+    #[test]
+    fn numbers_are_short_exact_and_never_negative_zero() {
+        let f = |x: f64, p: usize| {
+            let mut s = String::new();
+            write_number(&mut s, x, p);
+            s
+        };
+        assert_eq!(f(12.5, 3), "12.5");
+        assert_eq!(f(12.0, 3), "12");
+        assert_eq!(f(100.0, 3), "100");
+        assert_eq!(f(0.0, 3), "0");
+        assert_eq!(f(-0.0, 3), "0");
+        assert_eq!(f(-0.0004, 3), "0");
+        assert_eq!(f(-0.0006, 3), "-0.001");
+        assert_eq!(f(1.23456, 3), "1.235");
+        assert_eq!(f(1.23456, 1), "1.2");
+        assert_eq!(f(7.6, 0), "8");
+        assert_eq!(f(1.0 / 3.0, 40), "0.333333333333");
+        assert_eq!(f(f64::NAN, 3), "0");
+        assert_eq!(f(1e6 + 0.25, 3), "1000000.25");
+    }
+
+    #[test]
+    fn circle_path_has_every_coordinate_right() {
+        let c = circle(Point::new(30.0, 20.0), 12.0, false, None);
+        let svg = to_svg(&result(64, 48, vec![c.clone()]), &SvgOptions::default());
+        let data = path_data(&svg);
+        assert_eq!(data.len(), 1);
+        let cmds = parse_path(&data[0]);
+        // M, one C per quarter (a quarter circle of radius 12 needs one cubic), Z.
+        let letters: String = cmds.iter().map(|c| c.0).collect();
+        assert_eq!(letters, "MCCCCZ");
+        assert_eq!(cmds[0].1, vec![42.0, 20.0]);
+        let expected: Vec<CubicBez> = c
+            .segments
+            .iter()
+            .flat_map(|s| approximate_with_cubics(&s.curve, 0.02))
+            .collect();
+        for (cmd, cubic) in cmds[1..5].iter().zip(&expected) {
+            assert_eq!(cmd.1.len(), 6);
+            for (k, p) in cubic.points[1..].iter().enumerate() {
+                assert!((cmd.1[2 * k] - p.x).abs() <= 0.0005 + 1e-12);
+                assert!((cmd.1[2 * k + 1] - p.y).abs() <= 0.0005 + 1e-12);
+            }
+        }
+        // The written curve is a circle to within bound + rounding.
+        for cmd in &cmds[1..5] {
+            let v = &cmd.1;
+            let end = Point::new(v[4], v[5]);
+            assert!((end.distance(Point::new(30.0, 20.0)) - 12.0).abs() < 1e-3);
+        }
+        let mut pen = Point::new(cmds[0].1[0], cmds[0].1[1]);
+        for cmd in &cmds[1..5] {
+            let v = &cmd.1;
+            let cubic = CubicBez::new(
+                pen,
+                Point::new(v[0], v[1]),
+                Point::new(v[2], v[3]),
+                Point::new(v[4], v[5]),
+            );
+            for j in 0..=32 {
+                let r = cubic.eval(j as f64 / 32.0).distance(Point::new(30.0, 20.0));
+                assert!((r - 12.0).abs() < 0.02 + 0.001, "{r}");
+            }
+            pen = cubic.points[3];
+        }
+    }
+
+    #[test]
+    fn outer_and_hole_share_one_evenodd_path() {
+        let outer = circle(Point::new(32.0, 32.0), 25.0, false, None);
+        let hole = circle(Point::new(32.0, 32.0), 10.0, true, Some(0));
+        let island = circle(Point::new(32.0, 32.0), 4.0, false, Some(1));
+        let svg = to_svg(
+            &result(64, 64, vec![outer, hole, island]),
+            &SvgOptions::default(),
+        );
+        assert!(svg.starts_with(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"64\" height=\"64\" viewBox=\"0 0 64 64\">"
+        ));
+        assert!(svg.ends_with("</svg>\n"));
+        let data = path_data(&svg);
+        assert_eq!(data.len(), 2, "{svg}");
+        assert_eq!(data[0].matches('M').count(), 2);
+        assert_eq!(data[0].matches('Z').count(), 2);
+        assert_eq!(data[1].matches('M').count(), 1);
+        assert_eq!(svg.matches("fill-rule=\"evenodd\"").count(), 2);
+        assert!(!svg.contains("<!--"));
+    }
+
+    #[test]
+    fn output_is_deterministic_and_respects_options() {
+        let r = result(
+            64,
+            64,
+            vec![circle(Point::new(32.123456, 31.987654), 20.0, false, None)],
+        );
+        let opts = SvgOptions {
+            precision: 1,
+            fill: "url(#a)\"<x>".to_string(),
+            ..SvgOptions::default()
+        };
+        let a = to_svg(&r, &opts);
+        assert_eq!(a, to_svg(&r, &opts));
+        assert!(a.contains("fill=\"url(#a)&quot;&lt;x&gt;\""));
+        for d in path_data(&a) {
+            for (_, numbers) in parse_path(&d) {
+                for x in numbers {
+                    // One decimal at most.
+                    assert!(((x * 10.0).round() - x * 10.0).abs() < 1e-9, "{x}");
+                }
+            }
+        }
+        assert!(!a.contains("-0 ") && !a.contains("-0C"));
+    }
+
+    #[test]
+    fn bad_contours_are_reported_not_drawn() {
+        let mut broken = circle(Point::new(10.0, 10.0), 5.0, false, None);
+        broken.segments[1].curve.points[1].x = f64::NAN;
+        let orphan = circle(Point::new(40.0, 40.0), 5.0, true, None);
+        let mut empty = circle(Point::new(50.0, 10.0), 5.0, false, None);
+        empty.segments.clear();
+        let svg = to_svg(
+            &result(64, 64, vec![broken, orphan, empty]),
+            &SvgOptions::default(),
+        );
+        assert!(svg.contains("<!-- contour 0 skipped: non-finite coordinates -->"));
+        assert!(svg.contains("<!-- contour 1 skipped: a hole without an outer border -->"));
+        assert!(!svg.contains("<path"));
+        assert!(!svg.contains("NaN"));
+    }
+
+    #[test]
+    fn polynomial_segments_are_written_exactly() {
+        let mut c = circle(Point::new(32.0, 32.0), 20.0, false, None);
+        for s in &mut c.segments {
+            s.curve.weights = [1.0, 1.0];
+        }
+        let svg = to_svg(&result(64, 64, vec![c.clone()]), &SvgOptions::default());
+        let cmds = parse_path(&path_data(&svg)[0]);
+        assert_eq!(cmds.len(), 6);
+        for (cmd, s) in cmds[1..5].iter().zip(&c.segments) {
+            let p = &s.curve.points;
+            let want = [p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y];
+            for (got, want) in cmd.1.iter().zip(want) {
+                assert!((got - want).abs() <= 0.0005 + 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn for_tolerance_clamps_the_bound() {
+        assert_eq!(SvgOptions::for_tolerance(0.4).bound, 0.02);
+        assert_eq!(SvgOptions::for_tolerance(0.01).bound, 0.005);
+        assert_eq!(SvgOptions::for_tolerance(5.0).bound, 0.05);
+        assert_eq!(SvgOptions::for_tolerance(f64::NAN).bound, 0.02);
+        assert_eq!(SvgOptions::for_tolerance(-1.0), SvgOptions::default());
+    }
+
+    #[test]
+    fn rendered_ring_has_the_right_area() {
+        use resvg::{tiny_skia, usvg};
+        let outer = circle(Point::new(32.0, 32.0), 25.0, false, None);
+        let hole = circle(Point::new(32.0, 32.0), 10.0, true, Some(0));
+        let svg = to_svg(&result(64, 64, vec![outer, hole]), &SvgOptions::default());
+        let tree = usvg::Tree::from_str(&svg, &usvg::Options::default()).unwrap();
+        let mut pixmap = tiny_skia::Pixmap::new(64, 64).unwrap();
+        resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+        let covered: f64 = pixmap
+            .pixels()
+            .iter()
+            .map(|p| p.alpha() as f64 / 255.0)
+            .sum();
+        let area = std::f64::consts::PI * (25.0 * 25.0 - 10.0 * 10.0);
+        assert!((covered - area).abs() < 1e-3 * area, "{covered} vs {area}");
+        // The centre (in the hole) is empty, the ring is full.
+        assert_eq!(pixmap.pixel(32, 32).unwrap().alpha(), 0);
+        assert_eq!(pixmap.pixel(32, 14).unwrap().alpha(), 255);
+    }
+
+    #[test]
+    fn quarter_arc_helper_is_exact() {
+        let arc = quarter_arc(Point::new(1.0, 2.0), 5.0, FRAC_PI_4, FRAC_PI_4 + FRAC_PI_2);
+        for j in 0..=16 {
+            let d = arc.eval(j as f64 / 16.0).distance(Point::new(1.0, 2.0));
+            assert!((d - 5.0).abs() < 1e-12);
+        }
+    }
+}
