@@ -40,6 +40,10 @@ use std::fmt::Write as _;
 /// Nominal size, in screen pixels, of the longer side of the picture.
 const VIEW_SIDE: f64 = 800.0;
 
+/// Fewest decimals of marker sizes and line widths, which are small numbers on small images
+/// (one nominal screen pixel of an 8-px image is 0.01 px).
+const SIZE_PRECISION: usize = 4;
+
 const OUTLINE_COLOUR: &str = "#00a651";
 const POINT_COLOUR: &str = "#ff7f0e";
 const SMOOTH_COLOUR: &str = "#1f5fff";
@@ -101,7 +105,7 @@ pub fn to_overlay_svg(
     let bound = effective_bound(opts.bound);
     let num = |x: f64| {
         let mut s = String::new();
-        write_number(&mut s, x, precision.max(2));
+        write_number(&mut s, x, precision.max(SIZE_PRECISION));
         s
     };
 
@@ -260,16 +264,16 @@ fn write_square(out: &mut String, p: Point, half: f64, precision: usize) {
     out.push_str("\" y=\"");
     write_number(out, p.y - half, precision);
     out.push_str("\" width=\"");
-    write_number(out, 2.0 * half, precision.max(2));
+    write_number(out, 2.0 * half, precision.max(SIZE_PRECISION));
     out.push_str("\" height=\"");
-    write_number(out, 2.0 * half, precision.max(2));
+    write_number(out, 2.0 * half, precision.max(SIZE_PRECISION));
     out.push_str("\"/>\n");
 }
 
 /// The legend box in the top-left corner; its sample markers are outside the counted
 /// marker groups.
 fn write_legend(out: &mut String, unit: f64, opts: &OverlayOptions, precision: usize) {
-    let p = precision.max(2);
+    let p = precision.max(SIZE_PRECISION);
     let n = |x: f64| {
         let mut s = String::new();
         write_number(&mut s, x, p);
