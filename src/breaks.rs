@@ -146,45 +146,156 @@ pub fn turning_angles(points: &[Point], h: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Finds corners, inflections and curvature extrema of a closed contour.
-pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
-    let points = &contour.points;
+/// Turning angle at every point between two chords that skip the point's core: the
+/// arriving chord from s − 2h to s − h/2 and the leaving chord from s + h/2 to s + 2h.
+/// Anti-aliasing and smoothing round a sharp corner over about a pixel; skipping the core
+/// measures the full angle of the corner instead of the rounded one.
+fn corner_angles(points: &[Point], s: &[f64], total: f64, h: f64) -> Vec<f64> {
     let n = points.len();
-    let mut found: Vec<(usize, f64, JointKind, BreakReason)> = Vec::new(); // (index, fraction to next, kind, reason)
-    if n >= 3 {
-        let h = opts.window;
-        let theta = turning_angles(points, h);
-        let (s, total) = arc_lengths(points);
-        let corner = opts.corner_angle.to_radians();
-        // Index range within ±h of arc length around i, as offsets.
+    (0..n)
+        .map(|i| {
+            let at = |d: f64| point_at(points, s, total, i, s[i] + d);
+            angle_between(at(-0.5 * h) - at(-2.0 * h), at(2.0 * h) - at(0.5 * h))
+        })
+        .collect()
+}
+
+/// Largest distance from the polygon's points with arc position in [from, to] (relative to
+/// point i) to the line through `a` and `b`.
+fn max_off_line(points: &[Point], s: &[f64], total: f64, i: usize, from: f64, to: f64, a: Point, b: Point) -> f64 {
+    let n = points.len();
+    let Some(dir) = (b - a).normalized() else { return f64::INFINITY };
+    let mut worst: f64 = 0.0;
+    for k in 1..n {
+        for j in [(i + k) % n, (i + n - k) % n] {
+            let mut d = s[j] - s[i];
+            if d > total / 2.0 {
+                d -= total;
+            } else if d < -total / 2.0 {
+                d += total;
+            }
+            if d >= from && d <= to {
+                worst = worst.max((points[j] - a).cross(dir).abs());
+            }
+        }
+        let reach = s[(i + k) % n] - s[i];
+        if reach.rem_euclid(total) > to.abs().max(from.abs()) + 2.0 && k > 4 {
+            break;
+        }
+    }
+    worst
+}
+
+/// Finds corners, inflections and curvature extrema of a closed contour.
+///
+/// A corner whose two sides are straight near it (within 0.2 px over 1.5 windows) is
+/// sharpened: the rounded points of its core (within h/2 of arc length) are replaced by the
+/// intersection of the two side lines, which is where the true corner of an anti-aliased
+/// or smoothed outline lies.
+pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
+    let n0 = contour.points.len();
+    if n0 < 3 {
+        return build_segmented(contour.points.clone(), contour, Vec::new());
+    }
+    let h = opts.window;
+    let corner = opts.corner_angle.to_radians();
+    // Pass 1: corners on the original points, sharpened where the sides are straight.
+    let (points, corner_idx) = {
+        let src = &contour.points;
+        let (s, total) = arc_lengths(src);
+        let h = h.min(total / 8.0);
+        let ca = corner_angles(src, &s, total, h);
         let within = |i: usize, j: usize| {
             let d = (s[j] - s[i]).abs();
             d.min(total - d) <= h
         };
-        let is_local_max = |i: usize, val: &dyn Fn(usize) -> f64| {
-            let v = val(i);
+        let mut corners: Vec<usize> = Vec::new();
+        for i in 0..n0 {
+            if ca[i] <= corner {
+                continue;
+            }
+            let mut is_max = true;
+            for k in 1..n0 / 2 {
+                let (a, b) = ((i + n0 - k) % n0, (i + k) % n0);
+                if !within(i, a) && !within(i, b) {
+                    break;
+                }
+                if (within(i, a) && ca[a] >= ca[i]) || (within(i, b) && ca[b] > ca[i]) {
+                    is_max = false;
+                    break;
+                }
+            }
+            if is_max {
+                corners.push(i);
+            }
+        }
+        // Sharpen: (index, replacement point) for straight-sided corners.
+        let mut out: Vec<Point> = Vec::with_capacity(n0);
+        let mut out_corners = Vec::new();
+        let mut skip = vec![false; n0];
+        let mut replace: Vec<Option<Point>> = vec![None; n0];
+        for &i in &corners {
+            let at = |d: f64| point_at(src, &s, total, i, s[i] + d);
+            let (a0, a1, b0, b1) = (at(-2.0 * h), at(-0.5 * h), at(0.5 * h), at(2.0 * h));
+            let straight = max_off_line(src, &s, total, i, -2.0 * h, -0.5 * h, a0, a1) < 0.2
+                && max_off_line(src, &s, total, i, 0.5 * h, 2.0 * h, b0, b1) < 0.2;
+            if let (true, Some(x)) = (straight, line_intersection(a0, a1, b0, b1)) {
+                if x.distance(src[i]) < h {
+                    for k in 1..n0 {
+                        let mut any = false;
+                        for j in [(i + k) % n0, (i + n0 - k) % n0] {
+                            let d = (s[j] - s[i]).abs();
+                            if d.min(total - d) < 0.5 * h {
+                                skip[j] = true;
+                                any = true;
+                            }
+                        }
+                        if !any {
+                            break;
+                        }
+                    }
+                    replace[i] = Some(x);
+                }
+            }
+        }
+        for i in 0..n0 {
+            if let Some(x) = replace[i] {
+                out.push(x);
+                out_corners.push(out.len() - 1);
+            } else if !skip[i] {
+                if corners.contains(&i) {
+                    out_corners.push(out.len());
+                }
+                out.push(src[i]);
+            }
+        }
+        (out, out_corners)
+    };
+    let n = points.len();
+    let mut found: Vec<(usize, f64, JointKind, BreakReason)> = corner_idx.iter().map(|&i| (i, 0.0, JointKind::Corner, BreakReason::Corner)).collect();
+    if n >= 3 {
+        // Pass 2: smooth features on the sharpened polygon, away from corners.
+        let theta = turning_angles(&points, h);
+        let (s, total) = arc_lengths(&points);
+        let within = |i: usize, j: usize| {
+            let d = (s[j] - s[i]).abs();
+            d.min(total - d) <= h
+        };
+        let is_local_max = |i: usize| {
+            let v = theta[i].abs();
             let mut k = 1;
             while k < n / 2 {
                 let (a, b) = ((i + n - k) % n, (i + k) % n);
                 if !within(i, a) && !within(i, b) {
                     break;
                 }
-                // Ties go to the earlier index so a plateau yields one maximum.
-                if (within(i, a) && val(a) >= v) || (within(i, b) && val(b) > v) {
+                if (within(i, a) && theta[a].abs() >= v) || (within(i, b) && theta[b].abs() > v) {
                     return false;
                 }
                 k += 1;
             }
             true
         };
-        let abs_theta = |i: usize| theta[i].abs();
-        let mut corner_idx = Vec::new();
-        for i in 0..n {
-            if theta[i].abs() > corner && is_local_max(i, &abs_theta) {
-                corner_idx.push(i);
-                found.push((i, 0.0, JointKind::Corner, BreakReason::Corner));
-            }
-        }
         let near_corner = |i: usize| {
             corner_idx.iter().any(|&c| {
                 let d = (s[c] - s[i]).abs();
@@ -197,20 +308,12 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
                 continue;
             }
             // Curvature extremum, refined by a parabola through three samples.
-            if theta[i].abs() > floor && is_local_max(i, &abs_theta) {
+            if theta[i].abs() > floor && is_local_max(i) {
                 let (a, c) = (theta[(i + n - 1) % n].abs(), theta[(i + 1) % n].abs());
                 let b = theta[i].abs();
                 let denom = a - 2.0 * b + c;
-                let off = if denom.abs() > 1e-12 {
-                    (0.5 * (a - c) / denom).clamp(-0.5, 0.5)
-                } else {
-                    0.0
-                };
-                let (idx, frac) = if off >= 0.0 {
-                    (i, off)
-                } else {
-                    ((i + n - 1) % n, 1.0 + off)
-                };
+                let off = if denom.abs() > 1e-12 { (0.5 * (a - c) / denom).clamp(-0.5, 0.5) } else { 0.0 };
+                let (idx, frac) = if off >= 0.0 { (i, off) } else { ((i + n - 1) % n, 1.0 + off) };
                 found.push((idx, frac, JointKind::Smooth, BreakReason::CurvatureExtremum));
             }
             // Inflection between i and i+1: a sign change with clear bending on both sides.
@@ -236,16 +339,30 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
             }
         }
     }
-    build_segmented(contour, found)
+    build_segmented(points, contour, found)
+}
+
+/// Intersection of the line through a0, a1 with the line through b0, b1, if they are not
+/// (nearly) parallel.
+fn line_intersection(a0: Point, a1: Point, b0: Point, b1: Point) -> Option<Point> {
+    let da = a1 - a0;
+    let db = b1 - b0;
+    let den = da.cross(db);
+    if den.abs() < 1e-9 * da.length() * db.length() {
+        return None;
+    }
+    let t = (b0 - a0).cross(db) / den;
+    Some(a0 + da * t)
 }
 
 /// Inserts sub-sample breaks as points, merges breaks that land within 0.5 px of each
 /// other (corners win), and guarantees at least two breaks.
 fn build_segmented(
+    src: Vec<Point>,
     contour: &Contour,
     mut found: Vec<(usize, f64, JointKind, BreakReason)>,
 ) -> SegmentedContour {
-    let src = &contour.points;
+    let src = &src;
     let n = src.len();
     // Snap fractions near a sample onto it.
     for f in found.iter_mut() {

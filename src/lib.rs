@@ -24,6 +24,7 @@ pub mod io;
 pub mod optim;
 pub mod param;
 pub mod raster;
+pub mod report;
 
 pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};
@@ -126,7 +127,8 @@ impl Config {
         Ok(())
     }
 
-    fn raster_options(&self) -> RasterOptions {
+    /// The raster options this configuration implies.
+    pub fn raster_options(&self) -> RasterOptions {
         RasterOptions {
             threshold: self.threshold,
             invert: self.invert,
@@ -204,16 +206,15 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         });
     }
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
+    let lsq_options = fit::lsq::LsqOptions::new(config);
     let fitted: Vec<FittedContour> = contours
         .iter()
-        .map(|c| {
-            let seg = find_breaks(c, &break_options);
+        .enumerate()
+        .map(|(i, c)| {
+            let chain = fit::lsq::fit_contour(&find_breaks(c, &break_options), &lsq_options);
             match config.strategy {
-                Strategy::Lsq => fit::lsq::fit_contour(&seg, &fit::lsq::LsqOptions::new(config)),
-                Strategy::Hs => fit::paper::fit_contour(
-                    &fit::lsq::fit_contour(&seg, &fit::lsq::LsqOptions::new(config)),
-                    &fit::paper::PaperOptions::new(config),
-                ),
+                Strategy::Lsq => chain,
+                Strategy::Hs => fit::paper::fit_contour(&chain, &fit::paper::PaperOptions::new(config), i),
             }
         })
         .collect();

@@ -16,6 +16,8 @@
 use super::solve::{fit_segment, segment_error, EndCondition, FitSettings, SegmentSolution};
 use super::{FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::SegmentedContour;
+use crate::curve::approximate_with_cubics;
+use crate::export::svg::SvgOptions;
 use crate::geom::{angle_between, Point};
 use crate::Config;
 use std::time::Instant;
@@ -31,6 +33,9 @@ pub struct LsqOptions {
     pub tangent_window: f64,
     /// Record wall times.
     pub timings: bool,
+    /// Distance bound of the SVG's polynomial approximation of rational segments (px); the
+    /// chain prefers merges that do not add SVG pieces.
+    pub export_bound: f64,
 }
 
 impl LsqOptions {
@@ -41,6 +46,7 @@ impl LsqOptions {
             settings: FitSettings::default(),
             tangent_window: 3.0,
             timings: config.timings,
+            export_bound: SvgOptions::for_tolerance(config.tolerance).bound,
         }
     }
 }
@@ -61,6 +67,8 @@ struct Piece {
     /// Largest |P(u_i) − Q_i| at the fitted parameters (an upper bound of the true
     /// point-to-curve distance, used for split and merge decisions).
     max_residual: f64,
+    /// Number of polynomial cubics the segment becomes in SVG.
+    pieces: usize,
 }
 
 /// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
@@ -169,20 +177,36 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
         };
     }
     let mut buf = Vec::new();
+    // Split and merge decisions use fits without the final polish (cheaper, and their
+    // residuals only over-estimate); the chain's final segments are polished in `assemble`.
+    let search = FitSettings { polish_iterations: 0, ..opts.settings };
+    let polynomial = FitSettings { polish_iterations: 0, ..FitSettings::polynomial() };
     let fit = |a: &JointSpec, b: &JointSpec, buf: &mut Vec<Point>| -> Piece {
         cyclic_run(points, a.index, b.index, buf);
         let start = a.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
         let end = b.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
-        let solution = fit_segment(buf, start, end, &opts.settings);
-        let max_residual = buf
-            .iter()
-            .zip(&solution.params)
-            .map(|(q, &u)| solution.curve.eval(u).distance(*q))
-            .fold(0.0, f64::max);
-        Piece {
-            solution,
-            max_residual,
+        let residual = |sol: &SegmentSolution| {
+            buf.iter()
+                .zip(&sol.params)
+                .map(|(q, &u)| sol.curve.eval(u).distance(*q))
+                .fold(0.0, f64::max)
+        };
+        // A polynomial cubic is what SVG draws exactly: prefer it whenever it is within
+        // tolerance; otherwise search the weights.
+        let poly = fit_segment(buf, start, end, &polynomial);
+        let poly_residual = residual(&poly);
+        // Weights bend a cubic only so far: past a few tolerances the weight search is
+        // not worth its cost, and the segment will be split anyway.
+        if poly_residual <= opts.tolerance || poly_residual > 4.0 * opts.tolerance {
+            return Piece { solution: poly, max_residual: poly_residual, pieces: 1 };
         }
+        let solution = fit_segment(buf, start, end, &search);
+        let max_residual = residual(&solution);
+        if max_residual >= poly_residual {
+            return Piece { solution: poly, max_residual: poly_residual, pieces: 1 };
+        }
+        let pieces = approximate_with_cubics(&solution.curve, opts.export_bound).len();
+        Piece { solution, max_residual, pieces }
     };
 
     // Initial fits and splitting.
@@ -234,7 +258,8 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
                 let prev = (j + m - 1) % m;
                 let next = (j + 1) % m;
                 let candidate = fit(&joints[prev], &joints[next], &mut buf);
-                if candidate.max_residual <= opts.tolerance {
+                // Accept when within tolerance and not more SVG pieces than before.
+                if candidate.max_residual <= opts.tolerance && candidate.pieces <= pieces[prev].pieces + pieces[j].pieces {
                     // Segment `prev` runs joints[prev] → joints[j]; it absorbs segment j.
                     joints.remove(j);
                     let prev_after = if j == 0 { joints.len() - 1 } else { j - 1 };
@@ -281,7 +306,13 @@ fn assemble(
             let started = Instant::now();
             let (a, b) = (joints[k].index, joints[(k + 1) % m].index);
             cyclic_run(points, a, b, &mut buf);
-            let error = segment_error(&piece.solution.curve, &buf, &piece.solution.params);
+            // Final fit with the polish, keeping polynomial segments polynomial.
+            let settings = if piece.solution.curve.is_polynomial() { FitSettings::polynomial() } else { opts.settings };
+            let start = joints[k].tangent.map_or(EndCondition::Free, EndCondition::Tangent);
+            let end = joints[(k + 1) % m].tangent.map_or(EndCondition::Free, EndCondition::Tangent);
+            let polished = fit_segment(&buf, start, end, &settings);
+            let error = segment_error(&polished.curve, &buf, &polished.params);
+            let piece = Piece { solution: polished, ..piece };
             let seconds = if opts.timings {
                 started.elapsed().as_secs_f64()
             } else {
@@ -297,6 +328,7 @@ fn assemble(
                 error,
                 evaluations: piece.solution.evaluations,
                 seconds,
+                on_search_boundary: None,
             }
         })
         .collect();

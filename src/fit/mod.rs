@@ -74,6 +74,10 @@ pub struct FittedSegment {
     pub evaluations: u64,
     /// Wall time spent fitting this segment, in seconds (0 when timing is off).
     pub seconds: f64,
+    /// `hs` only: true when the best point found lies on the boundary of the search box
+    /// (Eq. 9 of the HS paper), a sign that the box may exclude the optimum.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub on_search_boundary: Option<bool>,
 }
 
 /// A closed contour fitted by a closed chain of segments.

@@ -1,0 +1,156 @@
+//! Harmony search (Geem et al.), with the parameters of the HS paper (§6): harmony memory
+//! size 5, memory considering rate 0.9, pitch adjusting rate 0.3, bandwidth 0.03.
+//!
+//! The bandwidth has no unit in the paper; here it is a fraction of each variable's range
+//! (bw × (upper − lower)), which works far better than an absolute step (see
+//! `shared/papers/NOTES.md`).
+//!
+//! Each improvisation builds a new vector variable by variable: with probability HMCR the
+//! value is taken from a random harmony of the memory and then, with probability PAR,
+//! moved by a uniform step of at most bw × range; otherwise it is drawn uniformly from the
+//! bounds. The new harmony replaces the worst one in memory if it is better. The budget
+//! counts objective evaluations, the HMS initial harmonies included.
+
+use super::{Optimizer, Outcome, Problem, SeededRng};
+use rand::RngExt;
+
+/// Harmony search parameters.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct HarmonySearch {
+    /// Harmony memory size. Default: 5.
+    pub hms: usize,
+    /// Harmony memory considering rate. Default: 0.9.
+    pub hmcr: f64,
+    /// Pitch adjusting rate. Default: 0.3.
+    pub par: f64,
+    /// Bandwidth as a fraction of each variable's range. Default: 0.03.
+    pub bw: f64,
+}
+
+impl Default for HarmonySearch {
+    fn default() -> Self {
+        HarmonySearch { hms: 5, hmcr: 0.9, par: 0.3, bw: 0.03 }
+    }
+}
+
+impl Optimizer for HarmonySearch {
+    fn name(&self) -> &'static str {
+        "hs"
+    }
+
+    fn minimize(&self, problem: &dyn Problem, budget: u64, rng: &mut SeededRng, record_history: bool) -> Outcome {
+        let dim = problem.dim();
+        let hms = self.hms.max(1);
+        let bounds: Vec<(f64, f64)> = (0..dim).map(|i| problem.bounds(i)).collect();
+        let mut history = Vec::new();
+        let mut best_so_far = f64::INFINITY;
+        let mut evaluations = 0u64;
+        let mut record = |v: f64, history: &mut Vec<f64>| {
+            best_so_far = best_so_far.min(v);
+            if record_history {
+                history.push(best_so_far);
+            }
+        };
+        let uniform = |rng: &mut SeededRng, (lo, hi): (f64, f64)| if hi > lo { rng.random_range(lo..=hi) } else { lo };
+        // Harmony memory: rows of `dim` values, with their objective values.
+        let mut memory: Vec<f64> = Vec::with_capacity(hms * dim);
+        let mut values: Vec<f64> = Vec::with_capacity(hms);
+        for _ in 0..hms {
+            if evaluations >= budget && !values.is_empty() {
+                break;
+            }
+            let start = memory.len();
+            for &b in &bounds {
+                memory.push(uniform(rng, b));
+            }
+            let v = problem.evaluate(&memory[start..]);
+            evaluations += 1;
+            record(v, &mut history);
+            values.push(v);
+        }
+        let rows = values.len();
+        let mut candidate = vec![0.0; dim];
+        while evaluations < budget {
+            for (i, &(lo, hi)) in bounds.iter().enumerate() {
+                let x = if rng.random::<f64>() < self.hmcr {
+                    let r = rng.random_range(0..rows);
+                    let mut x = memory[r * dim + i];
+                    if rng.random::<f64>() < self.par {
+                        x += self.bw * (hi - lo) * rng.random_range(-1.0..=1.0);
+                    }
+                    x.clamp(lo, hi)
+                } else {
+                    uniform(rng, (lo, hi))
+                };
+                candidate[i] = x;
+            }
+            let v = problem.evaluate(&candidate);
+            evaluations += 1;
+            record(v, &mut history);
+            let worst = (0..rows).max_by(|&a, &b| values[a].total_cmp(&values[b])).unwrap_or(0);
+            if v < values[worst] {
+                values[worst] = v;
+                memory[worst * dim..(worst + 1) * dim].copy_from_slice(&candidate);
+            }
+        }
+        let best = (0..rows).min_by(|&a, &b| values[a].total_cmp(&values[b])).unwrap_or(0);
+        Outcome {
+            best: memory[best * dim..(best + 1) * dim].to_vec(),
+            value: values.get(best).copied().unwrap_or(f64::INFINITY),
+            evaluations,
+            history,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optim::testfns::{Rastrigin, Rosenbrock, Sphere};
+    use rand::SeedableRng;
+
+    fn run(p: &dyn Problem, budget: u64, seed: u64) -> Outcome {
+        HarmonySearch::default().minimize(p, budget, &mut SeededRng::seed_from_u64(seed), true)
+    }
+
+    #[test]
+    fn sphere_in_five_dimensions() {
+        let o = run(&Sphere(5), 20_000, 1);
+        assert!(o.value < 1e-3, "{}", o.value);
+        assert_eq!(o.evaluations, 20_000);
+        assert_eq!(o.history.len(), 20_000);
+        assert!(o.history.windows(2).all(|w| w[1] <= w[0]));
+        assert_eq!(*o.history.last().unwrap(), o.value);
+    }
+
+    #[test]
+    fn rosenbrock_and_rastrigin_in_two_dimensions() {
+        let r = run(&Rosenbrock(2), 20_000, 3);
+        assert!(r.value < 1e-2, "rosenbrock {}", r.value);
+        let g = run(&Rastrigin(2), 20_000, 3);
+        assert!(g.value < 1e-2, "rastrigin {}", g.value);
+    }
+
+    #[test]
+    fn respects_bounds_and_is_deterministic() {
+        struct Edge;
+        impl Problem for Edge {
+            fn dim(&self) -> usize {
+                3
+            }
+            fn bounds(&self, i: usize) -> (f64, f64) {
+                (i as f64, i as f64 + 1.0)
+            }
+            fn evaluate(&self, x: &[f64]) -> f64 {
+                for (i, v) in x.iter().enumerate() {
+                    assert!(*v >= i as f64 && *v <= i as f64 + 1.0, "out of bounds: {x:?}");
+                }
+                -x.iter().sum::<f64>()
+            }
+        }
+        let a = run(&Edge, 3000, 9);
+        let b = run(&Edge, 3000, 9);
+        assert_eq!(a.best, b.best);
+        assert!((a.value + 6.0).abs() < 0.05, "{}", a.value);
+    }
+}

@@ -1,0 +1,267 @@
+//! Per-segment error reports: JSON (the whole fit, exact rational data included) and CSV
+//! (one row per segment).
+//!
+//! The JSON document has the shape
+//! `{ "outlinefit_version", "config", "images": [ { "path", "image", "summary", "seconds",
+//! "contours": [ { "segments": [...], "joints": [...] } ] } ] }`; see the README for every
+//! field. Every number in it is reproducible from the configuration and seed except the
+//! `seconds` fields, which are 0 when timing is off (`--no-timings`).
+
+use crate::fit::{FittedContour, JointKind};
+use crate::geom::Point;
+use crate::{Config, Strategy, TraceResult, VERSION};
+use serde::Serialize;
+
+/// Totals over one traced image.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// Number of contours.
+    pub contours: usize,
+    /// Number of segments.
+    pub segments: usize,
+    /// Number of corner joints.
+    pub corner_joints: usize,
+    /// Number of smooth joints.
+    pub smooth_joints: usize,
+    /// Largest tangent angle (radians) over the smooth joints.
+    pub max_smooth_joint_angle: f64,
+    /// Sum of Eq. 4 errors over all segments (px²).
+    pub sum_sq: f64,
+    /// Largest point-to-curve distance (px).
+    pub max_distance: f64,
+    /// Mean point-to-curve distance over all data points (px).
+    pub mean_distance: f64,
+    /// Number of data points.
+    pub points: usize,
+}
+
+impl Summary {
+    /// Totals of a trace.
+    pub fn of(result: &TraceResult) -> Summary {
+        let mut s = Summary {
+            contours: result.contours.len(),
+            segments: result.segment_count(),
+            corner_joints: 0,
+            smooth_joints: 0,
+            max_smooth_joint_angle: 0.0,
+            sum_sq: result.sum_sq(),
+            max_distance: result.max_distance(),
+            mean_distance: 0.0,
+            points: 0,
+        };
+        let mut weighted = 0.0;
+        let mut counted = 0usize;
+        for c in &result.contours {
+            s.points += c.points.len();
+            for j in &c.joints {
+                match j.kind {
+                    JointKind::Corner => s.corner_joints += 1,
+                    JointKind::Smooth => {
+                        s.smooth_joints += 1;
+                        s.max_smooth_joint_angle = s.max_smooth_joint_angle.max(j.angle);
+                    }
+                }
+            }
+            for seg in &c.segments {
+                weighted += seg.error.mean_distance * seg.point_count as f64;
+                counted += seg.point_count;
+            }
+        }
+        s.mean_distance = if counted > 0 { weighted / counted as f64 } else { 0.0 };
+        s
+    }
+}
+
+#[derive(Serialize)]
+struct SegmentRow<'a> {
+    index: usize,
+    optimizer: Strategy,
+    point_count: usize,
+    start: usize,
+    end: usize,
+    param_range: [f64; 2],
+    arc_range: [f64; 2],
+    control_points: [[f64; 2]; 4],
+    weights: [f64; 4],
+    sum_sq: f64,
+    rmse: f64,
+    max_distance: f64,
+    mean_distance: f64,
+    evaluations: u64,
+    seconds: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    on_search_boundary: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    params: Option<&'a [f64]>,
+}
+
+#[derive(Serialize)]
+struct JointRow {
+    index: usize,
+    kind: JointKind,
+    position: [f64; 2],
+    angle: f64,
+    beta: f64,
+}
+
+#[derive(Serialize)]
+struct ContourRow<'a> {
+    index: usize,
+    is_hole: bool,
+    parent: Option<usize>,
+    point_count: usize,
+    segments: Vec<SegmentRow<'a>>,
+    joints: Vec<JointRow>,
+}
+
+#[derive(Serialize)]
+struct ImageRow<'a> {
+    path: &'a str,
+    image: &'a crate::ImageInfo,
+    summary: Summary,
+    seconds: f64,
+    contours: Vec<ContourRow<'a>>,
+}
+
+#[derive(Serialize)]
+struct Document<'a> {
+    outlinefit_version: &'static str,
+    config: &'a Config,
+    images: Vec<ImageRow<'a>>,
+}
+
+fn xy(p: Point) -> [f64; 2] {
+    [p.x, p.y]
+}
+
+fn contour_row(index: usize, c: &FittedContour, strategy: Strategy, with_params: bool) -> ContourRow<'_> {
+    ContourRow {
+        index,
+        is_hole: c.is_hole,
+        parent: c.parent,
+        point_count: c.points.len(),
+        segments: c
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let (lo, hi) = s.params.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &u| (a.min(u), b.max(u)));
+                SegmentRow {
+                    index: k,
+                    optimizer: strategy,
+                    point_count: s.point_count,
+                    start: s.start,
+                    end: s.end,
+                    param_range: [lo, hi],
+                    arc_range: s.arc_range,
+                    control_points: s.curve.points.map(xy),
+                    weights: s.curve.all_weights(),
+                    sum_sq: s.error.sum_sq,
+                    rmse: s.error.rmse,
+                    max_distance: s.error.max_distance,
+                    mean_distance: s.error.mean_distance,
+                    evaluations: s.evaluations,
+                    seconds: s.seconds,
+                    on_search_boundary: s.on_search_boundary,
+                    params: with_params.then_some(s.params.as_slice()),
+                }
+            })
+            .collect(),
+        joints: c
+            .joints
+            .iter()
+            .map(|j| JointRow {
+                index: j.index,
+                kind: j.kind,
+                position: xy(j.position),
+                angle: j.angle,
+                beta: j.beta,
+            })
+            .collect(),
+    }
+}
+
+/// The JSON report of one or more traced images, pretty-printed, ending in a newline.
+/// `with_params` includes every data point's parameter (large).
+pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bool) -> String {
+    let doc = Document {
+        outlinefit_version: VERSION,
+        config,
+        images: images
+            .iter()
+            .map(|(path, r)| ImageRow {
+                path,
+                image: &r.image,
+                summary: Summary::of(r),
+                seconds: r.seconds,
+                contours: r.contours.iter().enumerate().map(|(i, c)| contour_row(i, c, config.strategy, with_params)).collect(),
+            })
+            .collect(),
+    };
+    // Serialising plain data with finite or infinite floats cannot fail; non-finite numbers
+    // become null.
+    let mut s = serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    s.push('\n');
+    s
+}
+
+/// The CSV report: a header and one row per segment.
+pub fn to_csv(config: &Config, images: &[(&str, &TraceResult)]) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let header = [
+        "image", "contour", "is_hole", "segment", "optimizer", "point_count", "start", "end", "c0x", "c0y", "c1x", "c1y", "c2x", "c2y", "c3x", "c3y",
+        "w1", "w2", "sum_sq", "rmse", "max_distance", "mean_distance", "start_joint", "start_joint_angle", "start_joint_beta", "evaluations", "seconds",
+    ];
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    for (path, r) in images {
+        for (ci, c) in r.contours.iter().enumerate() {
+            for (k, s) in c.segments.iter().enumerate() {
+                let p = s.curve.points;
+                let j = c.joints.get(k);
+                let mut row = vec![
+                    path.to_string(),
+                    ci.to_string(),
+                    c.is_hole.to_string(),
+                    k.to_string(),
+                    format!("{:?}", config.strategy).to_lowercase(),
+                    s.point_count.to_string(),
+                    s.start.to_string(),
+                    s.end.to_string(),
+                ];
+                for q in p {
+                    row.push(q.x.to_string());
+                    row.push(q.y.to_string());
+                }
+                row.extend([
+                    s.curve.weights[0].to_string(),
+                    s.curve.weights[1].to_string(),
+                    s.error.sum_sq.to_string(),
+                    s.error.rmse.to_string(),
+                    s.error.max_distance.to_string(),
+                    s.error.mean_distance.to_string(),
+                    j.map_or(String::new(), |j| format!("{:?}", j.kind).to_lowercase()),
+                    j.map_or(String::new(), |j| j.angle.to_string()),
+                    j.map_or(String::new(), |j| j.beta.to_string()),
+                    s.evaluations.to_string(),
+                    s.seconds.to_string(),
+                ]);
+                rows.push(row);
+            }
+        }
+    }
+    let mut out = String::new();
+    let result = (|| -> csv::Result<()> {
+        w.write_record(header)?;
+        for r in &rows {
+            w.write_record(r)?;
+        }
+        w.flush()?;
+        Ok(())
+    })();
+    if result.is_ok() {
+        if let Ok(bytes) = w.into_inner() {
+            out = String::from_utf8_lossy(&bytes).into_owned();
+        }
+    }
+    out
+}
