@@ -76,6 +76,9 @@ pub struct Config {
     pub strategy: Strategy,
     /// Harmony-search improvisations per segment (`hs` only). Default: 5000.
     pub budget: u64,
+    /// Scale of the `hs` control-point search box: 1 is the paper's box of Eq. 9 (the
+    /// extent of each segment's data), larger values widen it. Default: 1.
+    pub search_box_scale: f64,
     /// Seed of every random choice. Default: 1.
     pub seed: u64,
     /// Record wall times in the result (they are the only non-reproducible numbers).
@@ -94,6 +97,7 @@ impl Default for Config {
             tolerance: 0.4,
             strategy: Strategy::Lsq,
             budget: 5000,
+            search_box_scale: 1.0,
             seed: 1,
             timings: true,
         }
@@ -120,6 +124,9 @@ impl Config {
         }
         if self.max_pixels == 0 {
             return bad("--max-pixels", "must be at least 1");
+        }
+        if !(self.search_box_scale.is_finite() && self.search_box_scale >= 1.0) {
+            return bad("--search-box-scale", "must be a number ≥ 1");
         }
         if self.budget == 0 {
             return bad("--budget", "must be at least 1");

@@ -63,6 +63,10 @@ struct FitArgs {
     /// Objective evaluations per segment for metaheuristic optimizers (hs).
     #[arg(long, default_value_t = 5000, value_name = "N")]
     budget: u64,
+    /// Widen the hs control-point search box by this factor (1 = the paper's box of Eq. 9,
+    /// the extent of each segment's data, which can exclude the optimum).
+    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    search_box_scale: f64,
     /// Seed of every random choice; the same seed gives the same output on any number of
     /// threads.
     #[arg(long, default_value_t = 1)]
@@ -86,6 +90,7 @@ impl FitArgs {
                 OptimizerName::Hs => Strategy::Hs,
             },
             budget: self.budget,
+            search_box_scale: self.search_box_scale,
             seed: self.seed,
             timings: !self.no_timings,
         }

@@ -162,6 +162,31 @@ impl RationalCubic {
         (u, dist2.sqrt())
     }
 
+    /// A cheap projection step for parameter correction: `iterations` plain Newton steps
+    /// on (P(u) − q)·P'(u) = 0 from `u0`, clamped to [0, 1], keeping a step only when it
+    /// brings the point closer. Returns the new parameter.
+    pub fn project_quick(&self, q: Point, u0: f64, iterations: usize) -> f64 {
+        let mut u = u0.clamp(0.0, 1.0);
+        let mut jet = self.jet(u);
+        let mut d2 = (jet.point - q).length_squared();
+        for _ in 0..iterations {
+            let r = jet.point - q;
+            let h = jet.d1.length_squared() + r.dot(jet.d2);
+            let g = r.dot(jet.d1);
+            let step = if h > 1e-12 { -g / h } else { -g / jet.d1.length_squared().max(1e-12) };
+            let un = (u + step).clamp(0.0, 1.0);
+            let jn = self.jet(un);
+            let dn = (jn.point - q).length_squared();
+            if dn > d2 {
+                break;
+            }
+            u = un;
+            jet = jn;
+            d2 = dn;
+        }
+        u
+    }
+
     /// The global nearest point of the curve to `q`: a scan of `samples + 1` evenly spaced
     /// parameters picks the start, Newton refines it, and both ends are checked.
     /// Returns `(u, distance)`.

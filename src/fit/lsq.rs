@@ -248,7 +248,9 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
         k += 1;
     }
 
-    // Merging across smooth joints while within tolerance.
+    // Merging across smooth joints while within tolerance. A failed merge of the run
+    // between two given joints is remembered: it would fail again.
+    let mut failed: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
     loop {
         let mut merged_any = false;
         let mut j = 0;
@@ -257,9 +259,16 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
             if joints[j].kind == JointKind::Smooth {
                 let prev = (j + m - 1) % m;
                 let next = (j + 1) % m;
+                let key = (joints[prev].index, joints[next].index);
+                if failed.contains(&key) {
+                    j += 1;
+                    continue;
+                }
                 let candidate = fit(&joints[prev], &joints[next], &mut buf);
                 // Accept when within tolerance and not more SVG pieces than before.
-                if candidate.max_residual <= opts.tolerance && candidate.pieces <= pieces[prev].pieces + pieces[j].pieces {
+                if candidate.max_residual > opts.tolerance || candidate.pieces > pieces[prev].pieces + pieces[j].pieces {
+                    failed.insert(key);
+                } else {
                     // Segment `prev` runs joints[prev] → joints[j]; it absorbs segment j.
                     joints.remove(j);
                     let prev_after = if j == 0 { joints.len() - 1 } else { j - 1 };
@@ -401,6 +410,7 @@ mod tests {
             settings: FitSettings::default(),
             tangent_window: 3.0,
             timings: false,
+            export_bound: 0.02,
         };
         let fitted = fit_contour(&seg, &opts);
         assert!(

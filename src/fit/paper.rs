@@ -39,6 +39,9 @@ pub struct PaperOptions {
     pub hs: HarmonySearch,
     /// Record wall times.
     pub timings: bool,
+    /// Scale of the control-point search box: 1 is the paper's box (the data's extent,
+    /// Eq. 9); larger values widen it around the data.
+    pub box_scale: f64,
 }
 
 impl PaperOptions {
@@ -49,6 +52,7 @@ impl PaperOptions {
             seed: config.seed,
             hs: HarmonySearch::default(),
             timings: config.timings,
+            box_scale: config.search_box_scale,
         }
     }
 }
@@ -73,13 +77,18 @@ pub struct SegmentProblem<'a> {
 }
 
 impl<'a> SegmentProblem<'a> {
-    fn new(points: &'a [Point], params: &[f64], start: Side, end: Side, max_weight: f64) -> Self {
+    fn new(points: &'a [Point], params: &[f64], start: Side, end: Side, max_weight: f64, box_scale: f64) -> Self {
         let (mut lo, mut hi) = (points[0], points[0]);
         for p in points {
             lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
             hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
         }
         let diag = (hi - lo).length().max(1e-9);
+        // Eq. 9's box is the data's extent; `box_scale` > 1 widens it by (scale − 1)/2
+        // diagonals on every side (the extent alone can exclude the optimum).
+        let margin = Point::new(1.0, 1.0) * (0.5 * (box_scale - 1.0).max(0.0) * diag);
+        let (lo, hi) = (lo - margin, hi + margin);
+        let diag = diag * box_scale.max(1.0);
         let mut bounds = Vec::with_capacity(6);
         for side in [start, end] {
             match side {
@@ -209,7 +218,7 @@ pub fn fit_contour(base: &FittedContour, opts: &PaperOptions, contour_index: usi
                 _ => Side::Free,
             };
             let max_weight = if g == 0 { 2.0 } else { 2.5 };
-            let problem = SegmentProblem::new(&run, &params, start, end, max_weight);
+            let problem = SegmentProblem::new(&run, &params, start, end, max_weight, opts.box_scale);
             let mut rng = SeededRng::seed_from_u64(segment_seed(opts.seed, contour_index, k));
             let outcome = opts.hs.minimize(&problem, opts.budget, &mut rng, false);
             let curve = problem.curve(&outcome.best);
@@ -267,7 +276,7 @@ mod tests {
     #[test]
     fn every_smooth_joint_is_g1_and_runs_are_reproducible() {
         let base = blob();
-        let opts = PaperOptions { budget: 3000, seed: 5, hs: HarmonySearch::default(), timings: false };
+        let opts = PaperOptions { budget: 3000, seed: 5, hs: HarmonySearch::default(), timings: false, box_scale: 1.0 };
         let a = fit_contour(&base, &opts, 0);
         for j in &a.joints {
             if j.kind == JointKind::Smooth {
@@ -304,7 +313,7 @@ mod tests {
     fn objective_matches_eq4_of_the_curve() {
         let pts: Vec<Point> = (0..20).map(|i| Point::new(i as f64, (i as f64 * 0.3).sin() * 4.0)).collect();
         let params = centripetal_parameters(&pts);
-        let p = SegmentProblem::new(&pts, &params, Side::Free, Side::Free, 2.0);
+        let p = SegmentProblem::new(&pts, &params, Side::Free, Side::Free, 2.0, 1.0);
         let x = [3.0, 2.0, 12.0, -1.0, 0.7, 1.4];
         let c = p.curve(&x);
         let e: f64 = pts.iter().zip(&params).map(|(q, &u)| (c.eval(u) - *q).length_squared()).sum();

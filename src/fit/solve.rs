@@ -454,13 +454,13 @@ fn search_weights(
     (to_w(x), best, evals)
 }
 
-/// Starting weights from a 5 × 5 grid, evenly spaced in log-space over `range`: the grid's
-/// local minima (4-neighbourhood), best first, at most `count` of them. Returns the starts
-/// and the evaluations spent.
+/// Starting weights from a 4 × 4 grid of typical weights (0.1, 0.4, 1, 2, clamped into
+/// `range`): the grid's local minima (4-neighbourhood), best first, at most `count` of them.
+/// Returns the starts and the evaluations spent.
 fn grid_starts(model: &LinearModel<'_>, range: (f64, f64), count: usize) -> (Vec<[f64; 2]>, u64) {
-    const N: usize = 5;
-    let (lo, hi) = (range.0.ln(), range.1.ln());
-    let at = |i: usize| (lo + (hi - lo) * i as f64 / (N - 1) as f64).exp();
+    const N: usize = 4;
+    const GRID: [f64; N] = [0.1, 0.4, 1.0, 2.0];
+    let at = |i: usize| GRID[i].clamp(range.0, range.1);
     let mut e = [[0.0; N]; N];
     for (i, row) in e.iter_mut().enumerate() {
         for (j, v) in row.iter_mut().enumerate() {
@@ -493,12 +493,18 @@ fn grid_starts(model: &LinearModel<'_>, range: (f64, f64), count: usize) -> (Vec
 /// points, parameter correction, then a Levenberg–Marquardt polish of the orthogonal
 /// distances. `points` holds the data in order; its first and last points are the end
 /// points C0 and C3. Needs at least 2 points; with 2 the result is the straight segment.
+pub static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+pub static PTS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+pub static POLY: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 pub fn fit_segment(
     points: &[Point],
     start: EndCondition,
     end: EndCondition,
     settings: &FitSettings,
 ) -> SegmentSolution {
+    CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    PTS.fetch_add(points.len(), std::sync::atomic::Ordering::Relaxed);
+    if settings.fixed_weights() { POLY.fetch_add(1, std::sync::atomic::Ordering::Relaxed); }
     let mut params = centripetal_parameters(points);
     if points.len() < 3 {
         let (c0, c3) = (points[0], points[points.len() - 1]);
@@ -533,7 +539,9 @@ pub fn fit_segment(
         loop {
             let model = LinearModel::new(points, &params, start, end);
             if !settings.fixed_weights() {
-                let (w, _, ev) = search_weights(&model, settings.weight_range, weights, 0.5, 0.01);
+                // Later rounds only adjust: the parameters moved a little.
+                let step = if round == 0 { 0.5 } else { 0.1 };
+                let (w, _, ev) = search_weights(&model, settings.weight_range, weights, step, 0.02);
                 evaluations += ev;
                 weights = w;
             }
@@ -546,6 +554,8 @@ pub fn fit_segment(
             reproject(&curve, points, &mut params);
             round += 1;
         }
+        // Leave the parameters at the feet of the points, so that residuals are distances.
+        reproject(&curve, points, &mut params);
         if settings.polish_iterations > 0 {
             let model = LinearModel::new(points, &params, start, end);
             let (polished, ev) = polish(&model, curve, &mut params, settings);
@@ -610,7 +620,7 @@ fn straight_segment(c0: Point, c3: Point, start: EndCondition, end: EndCondition
 fn reproject(curve: &RationalCubic, points: &[Point], params: &mut [f64]) {
     let n = points.len();
     for i in 1..n.saturating_sub(1) {
-        params[i] = curve.refine_projection(points[i], params[i]).0;
+        params[i] = curve.project_quick(points[i], params[i], 3);
     }
 }
 
@@ -620,9 +630,9 @@ fn orthogonal_objective(curve: &RationalCubic, points: &[Point], params: &mut [f
     let n = points.len();
     let mut e = 0.0;
     for i in 1..n - 1 {
-        let (u, d) = curve.refine_projection(points[i], params[i]);
+        let u = curve.project_quick(points[i], params[i], 4);
         params[i] = u;
-        e += d * d;
+        e += (curve.eval(u) - points[i]).length_squared();
     }
     e
 }
