@@ -60,7 +60,6 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         );
     }
     let result = trace_bitmap(&bitmap, &config)?;
-    eprintln!("calls {} pts {} poly {}", outlinefit::fit::solve::CALLS.load(std::sync::atomic::Ordering::Relaxed), outlinefit::fit::solve::PTS.load(std::sync::atomic::Ordering::Relaxed), outlinefit::fit::solve::POLY.load(std::sync::atomic::Ordering::Relaxed));
     let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
     let name = args.input.display().to_string();
     // Reports first, the SVG last: a finished SVG means everything else is there too.

@@ -493,18 +493,12 @@ fn grid_starts(model: &LinearModel<'_>, range: (f64, f64), count: usize) -> (Vec
 /// points, parameter correction, then a Levenberg–Marquardt polish of the orthogonal
 /// distances. `points` holds the data in order; its first and last points are the end
 /// points C0 and C3. Needs at least 2 points; with 2 the result is the straight segment.
-pub static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-pub static PTS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-pub static POLY: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 pub fn fit_segment(
     points: &[Point],
     start: EndCondition,
     end: EndCondition,
     settings: &FitSettings,
 ) -> SegmentSolution {
-    CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    PTS.fetch_add(points.len(), std::sync::atomic::Ordering::Relaxed);
-    if settings.fixed_weights() { POLY.fetch_add(1, std::sync::atomic::Ordering::Relaxed); }
     let mut params = centripetal_parameters(points);
     if points.len() < 3 {
         let (c0, c3) = (points[0], points[points.len() - 1]);
