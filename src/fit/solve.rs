@@ -236,18 +236,17 @@ impl<'a> LinearModel<'a> {
     /// Unknowns of a given curve (inverse of `curve`).
     fn unknowns_of(&self, c: &RationalCubic) -> Unknowns {
         let mut z = [0.0; 4];
-        let mut j = 0;
-        match self.start {
+        let mut j = match self.start {
             EndCondition::Free => {
                 z[0] = c.points[1].x;
                 z[1] = c.points[1].y;
-                j = 2;
+                2
             }
             EndCondition::Tangent(t) => {
                 z[0] = (c.points[1] - c.points[0]).dot(t);
-                j = 1;
+                1
             }
-        }
+        };
         match self.end {
             EndCondition::Free => {
                 z[j] = c.points[2].x;
