@@ -1,14 +1,164 @@
-//! Boundary extraction (placeholder: being written by a helper).
+//! Boundary extraction: from a coverage field ([`Bitmap`]) to closed sub-pixel outlines
+//! ([`Contour`]), with their nesting (outer borders, holes, islands in holes).
+//!
+//! The method, in four steps:
+//!
+//! 1. **Topology.** The thresholded mask, padded by one pixel of background on every side
+//!    so that shapes touching the image edge get closed borders, goes through
+//!    `imageproc::contours::find_contours` (Suzuki and Abe's border following:
+//!    8-connected foreground, 4-connected background). It gives every border's kind (outer
+//!    or hole), its parent and its first pixel.
+//! 2. **Crack loops.** From that first pixel each border is re-traced along the pixel edges
+//!    ("cracks") that separate its foreground component from the adjacent background
+//!    component, keeping the foreground on the right. On screen (y down) outer loops then run
+//!    clockwise (`geom::signed_area` > 0) and holes counter-clockwise. Each crack lies
+//!    between a foreground and a background pixel; its midpoint is where marching squares
+//!    would put the edge of a 0/1 image.
+//! 3. **Edge placement.**
+//!    * *Grey levels* (`!bitmap.is_bilevel()`): every crack midpoint m is moved along the
+//!      outward normal n (from the Sobel gradient of the coverage, or the crack's own normal
+//!      where the gradient disagrees) to the edge, found by **coverage integration**: for an
+//!      area-coverage image (what font rasterisers and resvg produce), along the line
+//!      m + s·n the coverage falls from 1 to 0 and the edge is at
+//!      s = −h + ∫₋ₕʰ f(s) ds, exactly for a straight box-filtered edge, whatever the
+//!      threshold. The window (h = 2 px) is clipped where coverage starts rising again
+//!      outward or falling again inward, so it never runs across the far side of a thin
+//!      stroke or into a neighbouring shape. A test compares this estimator with the
+//!      threshold crossing of the interpolated coverage, which is biased by up to ~0.1 px on
+//!      curved and oblique edges. The integral assumes interior coverage 1 and background
+//!      0; images whose ink and paper are not pure shift the edge by about
+//!      h × (impurity), e.g. 0.05 px for 2.5 % grey paper.
+//!      Anti-aliasing also rounds corners off (by up to ~0.6 px for a right angle):
+//!      where the refined outline turns sharply and is straight on both sides beyond the
+//!      rounded part, the rounded points are replaced by the intersection of the two side
+//!      lines.
+//!    * *Bilevel images*: refinement has nothing to work with and the pixel staircase
+//!      must not survive (it would be fitted as many tiny corners). Starting from the crack
+//!      midpoints:
+//!      - *corners* are local maxima of the angle between the chords to the points three
+//!        cracks back and ahead above 55° (digital straight lines stay below about 20°).
+//!        Each is placed at the intersection of lines fitted to its two sides and kept
+//!        only if that corner is *consistent with the pixels*: foreground pixel centres
+//!        around it inside the corner's wedge, background centres outside. Corners hold
+//!        their place while everything else is smoothed. Loops under 40 cracks (shapes
+//!        under ~10 px) get none: there a digitised disk and a polygon look alike.
+//!      - a binomial pre-smoothing (four passes of [1, 2, 1]/4) gives first normals and
+//!        curvatures;
+//!      - then every point is re-estimated by a *weighted local quadratic regression* of
+//!        the crack midpoints in its own frame. A midpoint is only known to ±0.5 px along
+//!        its crack's normal n, i.e. ±0.5·|n·ν| across the outline (normal ν), so the
+//!        risers of a shallow staircase are precise and the long flat runs are not; the
+//!        weights are 1/((n·ν)² + 0.01), and a run of equal cracks shares one weight
+//!        because its error is common to all of them. The bandwidth grows like √R with
+//!        the radius of curvature R, since the flat run at the top of a digitised circle
+//!        is up to √(8R) long and the window must reach the risers beyond it, and is cut
+//!        back where the fitted parabola would leave the pixel constraints (a window
+//!        reaching from a straight side into a tight curve). This is what keeps a 40 px
+//!        disk within ~0.25 px of the true circle where plain smoothing of the midpoints
+//!        leaves ~0.5 px at the top, bottom and sides, and it keeps digital straight lines
+//!        straight.
+//! 4. **Clean-up.** Points closer than 0.3 px to their predecessor and points that step
+//!    backwards (at concave corners) are removed, then each closed polyline is resampled
+//!    to about 0.8 px spacing (a little more than one point per pixel of boundary), keeping
+//!    corners and sharp turns as exact samples so that they are not cut off. Contours with
+//!    fewer than 3 points or an enclosed area below `min_area` are dropped with all the
+//!    contours nested inside them, and parent indices are renumbered.
+//!
+//! Measured (tests in this file and a benchmark over 10 sub-pixel centres per radius):
+//! anti-aliased disks of radius 20 come out within 0.03 px of the circle (mean 0.01 px);
+//! anti-aliased square corners within 0.03 px; bilevel disks of radius 10–80 within
+//! 0.2–0.32 px, small ones (radius 2–7) within 0.5 px; bilevel axis-aligned squares exact.
+//!
+//! Limits: strokes thinner than about 2 px cannot be placed exactly from one side (the
+//! coverage never reaches 1). A bilevel straight edge is only known to the pixel: an
+//! axis-aligned one stays up to 0.5 px off, whatever the method. Bilevel shapes under
+//! ~10 px across come out rounded.
 
-use crate::error::Result;
-use crate::geom::Point;
+use crate::error::{Error, Result};
+use crate::geom::{signed_area, Point};
 use crate::raster::Bitmap;
+use image::GrayImage;
+use imageproc::contours::{find_contours, BorderType};
 use serde::Serialize;
+
+/// Half-width (px) of the window along the normal over which coverage is integrated.
+const HALF_WINDOW: f64 = 2.0;
+/// Number of integration steps on each side of the crack midpoint.
+const WINDOW_STEPS: usize = 8;
+/// A rise (outward) or fall (inward) of coverage by more than this ends the window.
+const MONOTONE_SLACK: f64 = 0.02;
+/// The gradient normal is used when its cosine with the crack normal is at least this.
+const MIN_NORMAL_AGREEMENT: f64 = 0.35;
+/// Largest accepted move (px) of a refined point from its crack midpoint.
+const MAX_SHIFT: f64 = 1.5;
+/// Points closer than this (px) to their predecessor are removed.
+const MIN_SPACING: f64 = 0.3;
+/// Target spacing (px) of the resampled points.
+const TARGET_SPACING: f64 = 0.8;
+/// A turn above this (degrees) between consecutive segments makes a point an exact sample.
+const ANCHOR_TURN_DEG: f64 = 20.0;
+/// Chord length, in cracks, of the bilevel corner detector.
+const CORNER_REACH: usize = 3;
+/// Smallest chord angle (degrees) that makes a bilevel corner.
+const CORNER_ANGLE_DEG: f64 = 55.0;
+/// Loops of fewer cracks (shapes under about 10 px across) get no corners: at that size a
+/// digitised disk and a digitised polygon are indistinguishable, and they are smoothed.
+const MIN_CORNER_LOOP: usize = 40;
+/// Smallest turn (degrees) between the fitted side lines of a bilevel corner: the vertices
+/// of a small digitised circle (a digital octagon, 45° turns) must not become corners.
+const CORNER_LINE_ANGLE_DEG: f64 = 50.0;
+/// Points fitted on each side of a bilevel corner.
+const CORNER_FIT_POINTS: usize = 8;
+/// Tolerance (px) of the pixel-consistency test of a bilevel corner.
+const CORNER_PIXEL_SLACK: f64 = 0.1;
+/// Largest move (px) of a corner to the intersection of its side lines.
+const MAX_CORNER_MOVE: f64 = 1.0;
+/// Passes of the [1, 2, 1]/4 filter that pre-smooth bilevel outlines.
+const SMOOTHING_PASSES: usize = 4;
+/// Bilevel bandwidth σ (px) per √(local diameter), see [`Workspace::choose_bandwidths`].
+const BANDWIDTH_PER_SQRT_DIAMETER: f64 = 0.8;
+/// Chord length, in cracks, of the curvature estimate behind the bilevel bandwidth.
+const BANDWIDTH_CHORD: usize = 8;
+/// The bilevel regression fits at every this many points; the points in between are put
+/// on the last fitted parabola.
+const REGRESSION_STRIDE: usize = 2;
+/// The bilevel bandwidth is chosen at every this many points and interpolated between.
+const BANDWIDTH_STRIDE: usize = 3;
+/// Half-width, in points, of the running mean applied to the bandwidths.
+const BANDWIDTH_SMOOTHING: usize = 6;
+/// Candidate bandwidths (px) of the bilevel regression, narrowest first.
+const BANDWIDTHS: [f64; 6] = [1.5, 2.5, 4.0, 6.0, 9.0, 12.0];
+/// Tolerance (px) of the pixel-consistency test of a bilevel regression fit.
+const FIT_PIXEL_SLACK: f64 = 0.25;
+/// The bilevel regression window ends where the outline has turned by more than 60°, so
+/// that a small loop is never fitted as one parabola.
+const MIN_WINDOW_TANGENT_COSINE: f64 = 0.5;
+/// Window half-width of the bilevel regression, in bandwidths.
+const BANDWIDTH_REACH: f64 = 2.5;
+/// A crack midpoint is uncertain by ±0.5 px along its own normal, i.e. by
+/// ±0.5·|n·ν| across the outline (normal ν): the midpoints of cracks that run across the
+/// outline (the risers of a shallow staircase) are precise, those along it are not. Weights
+/// are 1 / ((n·ν)² + this floor).
+const BILEVEL_PRECISION_FLOOR: f64 = 0.01;
+/// Arc length (px) to the chord ends of the grey-level corner detector.
+const GREY_CORNER_REACH: f64 = 2.0;
+/// Smallest chord angle (degrees) of a grey-level corner.
+const GREY_CORNER_ANGLE_DEG: f64 = 50.0;
+/// Arc length (px) on each side of a grey-level corner treated as rounded.
+const GREY_CORNER_SKIP: f64 = 1.2;
+/// Arc length (px) of each straight side fitted beyond the rounded part.
+const GREY_CORNER_SIDE: f64 = 3.0;
+/// Largest distance (px) of a side point from its fitted line.
+const GREY_CORNER_RESIDUAL: f64 = 0.08;
+/// Largest distance (px) from the sharpened corner to the rounded outline.
+const GREY_CORNER_MOVE: f64 = 1.0;
 
 /// Options of boundary extraction.
 #[derive(Clone, Debug)]
 pub struct ContourOptions {
-    /// Shapes and holes with a smaller area (px²) are dropped.
+    /// Contours enclosing a smaller area (px², after refinement) are dropped as specks,
+    /// together with every contour nested inside them. Must be finite and ≥ 0.
+    /// Default (in [`crate::Config`]): 2.0.
     pub min_area: f64,
 }
 
@@ -26,7 +176,1567 @@ pub struct Contour {
     pub parent: Option<usize>,
 }
 
-/// Extracts the contours of the foreground.
-pub fn extract_contours(_bitmap: &Bitmap, _opts: &ContourOptions) -> Result<Vec<Contour>> {
-    Ok(vec![])
+/// How the grey-level path places an edge along its normal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum EdgeEstimator {
+    /// s = −h + ∫ f ds over the clipped window (the default).
+    CoverageIntegral,
+    /// Where the bilinear coverage crosses the threshold (kept for the comparison test).
+    #[cfg_attr(not(test), allow(dead_code))]
+    LevelCrossing,
+}
+
+/// One pixel edge between a foreground and a background pixel, in image coordinates.
+#[derive(Clone, Copy, Debug)]
+struct Crack {
+    /// The foreground pixel (column, row) in image coordinates.
+    inside: (i64, i64),
+    /// Midpoint of the pixel edge.
+    mid: Point,
+    /// Unit normal from the foreground pixel to the background pixel.
+    normal: Point,
+}
+
+/// Directions on the vertex grid: east, south, west, north (clockwise on screen).
+const DIRS: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
+
+/// The pixels to the right and to the left of the crack leaving vertex (x, y) in direction
+/// `d`.
+#[inline]
+fn side_pixels(x: i64, y: i64, d: usize) -> ((i64, i64), (i64, i64)) {
+    match d {
+        0 => ((x, y), (x, y - 1)),
+        1 => ((x - 1, y), (x, y)),
+        2 => ((x - 1, y - 1), (x - 1, y)),
+        _ => ((x, y - 1), (x - 1, y - 1)),
+    }
+}
+
+/// The padded binary mask: 1 pixel of background around the image.
+struct PaddedMask {
+    width: i64,
+    height: i64,
+    data: Vec<u8>,
+}
+
+impl PaddedMask {
+    fn new(bitmap: &Bitmap) -> PaddedMask {
+        let (w, h) = (bitmap.width as usize, bitmap.height as usize);
+        let pw = w + 2;
+        let mut data = vec![0u8; pw * (h + 2)];
+        let t = bitmap.threshold();
+        for (r, row) in bitmap.coverage().chunks_exact(w).enumerate() {
+            let dst = &mut data[(r + 1) * pw + 1..(r + 1) * pw + 1 + w];
+            for (d, &v) in dst.iter_mut().zip(row) {
+                *d = if f64::from(v) >= t { 255 } else { 0 };
+            }
+        }
+        PaddedMask {
+            width: pw as i64,
+            height: h as i64 + 2,
+            data,
+        }
+    }
+
+    #[inline]
+    fn is_foreground(&self, (x, y): (i64, i64)) -> bool {
+        x >= 0
+            && y >= 0
+            && x < self.width
+            && y < self.height
+            && self.data[(y * self.width + x) as usize] != 0
+    }
+
+    /// Follows the crack loop that starts by leaving vertex `start` in direction `dir`,
+    /// with the foreground on the right, and appends its cracks (in image coordinates) to
+    /// `out`.
+    fn trace(&self, start: (i64, i64), dir: usize, out: &mut Vec<Crack>) {
+        out.clear();
+        let (mut x, mut y, mut d) = (start.0, start.1, dir);
+        // Every crack is visited at most once per loop.
+        let limit = 4 * self.width * self.height + 4;
+        for _ in 0..limit {
+            let (dx, dy) = DIRS[d];
+            let (lx, ly) = DIRS[(d + 3) % 4];
+            let ((rx, ry), _) = side_pixels(x, y, d);
+            out.push(Crack {
+                inside: (rx - 1, ry - 1),
+                mid: Point::new(
+                    x as f64 + 0.5 * dx as f64 - 1.0,
+                    y as f64 + 0.5 * dy as f64 - 1.0,
+                ),
+                normal: Point::new(lx as f64, ly as f64),
+            });
+            x += dx;
+            y += dy;
+            let (right, left) = side_pixels(x, y, d);
+            d = if self.is_foreground(left) {
+                (d + 3) % 4
+            } else if self.is_foreground(right) {
+                d
+            } else {
+                (d + 1) % 4
+            };
+            if (x, y, d) == (start.0, start.1, dir) {
+                return;
+            }
+        }
+    }
+}
+
+/// Extracts the contours of the foreground of `bitmap`.
+///
+/// Returns outer borders, holes and islands in the order `find_contours` finds them (a
+/// parent always comes before its children), with sub-pixel points as described in the
+/// module docs. An image with no foreground gives an empty list.
+///
+/// Errors: [`Error::InvalidOption`] when `min_area` is negative or not finite, or when the
+/// bitmap's public `width`/`height` were changed so that they no longer match its
+/// coverage, or exceed 2³¹ − 3.
+pub fn extract_contours(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Vec<Contour>> {
+    extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)
+}
+
+fn extract_with(
+    bitmap: &Bitmap,
+    opts: &ContourOptions,
+    estimator: EdgeEstimator,
+) -> Result<Vec<Contour>> {
+    if !(opts.min_area.is_finite() && opts.min_area >= 0.0) {
+        return Err(Error::InvalidOption {
+            name: "--min-area",
+            message: "must be a non-negative area in px²".to_string(),
+        });
+    }
+    let (w, h) = (bitmap.width as usize, bitmap.height as usize);
+    if w == 0 || h == 0 {
+        return Ok(Vec::new());
+    }
+    if bitmap.coverage().len() as u64 != w as u64 * h as u64 {
+        return Err(Error::InvalidOption {
+            name: "bitmap",
+            message: format!(
+                "{}×{} does not match its {} coverage values",
+                w,
+                h,
+                bitmap.coverage().len()
+            ),
+        });
+    }
+    // imageproc's border follower works in i32 coordinates.
+    let coord_limit = i32::MAX as usize - 2;
+    if w > coord_limit || h > coord_limit {
+        return Err(Error::InvalidOption {
+            name: "bitmap",
+            message: format!("{w}×{h} is too wide or tall to trace (limit {coord_limit})"),
+        });
+    }
+
+    let mask = PaddedMask::new(bitmap);
+    let borders = {
+        let image = GrayImage::from_raw(mask.width as u32, mask.height as u32, mask.data.clone())
+            .ok_or_else(|| Error::InvalidOption {
+            name: "bitmap",
+            message: "cannot build the padded mask".to_string(),
+        })?;
+        find_contours::<i32>(&image)
+    };
+
+    let mut cracks = Vec::new();
+    let mut work = Workspace::default();
+    let mut traced: Vec<Option<Contour>> = Vec::with_capacity(borders.len());
+    for border in &borders {
+        let Some(first) = border.points.first() else {
+            traced.push(None);
+            continue;
+        };
+        let (x, y) = (i64::from(first.x), i64::from(first.y));
+        let is_hole = border.border_type == BorderType::Hole;
+        if is_hole {
+            mask.trace((x + 1, y), 1, &mut cracks);
+        } else {
+            mask.trace((x, y + 1), 3, &mut cracks);
+        }
+        let points = if bitmap.is_bilevel() {
+            work.bilevel_outline(&cracks, &mask)
+        } else {
+            work.refined_outline(bitmap, &cracks, estimator)
+        };
+        let contour = finish(points, is_hole, border.parent, opts.min_area);
+        traced.push(contour);
+    }
+    Ok(renumber(traced, borders.iter().map(|b| b.parent).collect()))
+}
+
+/// Orients a finished outline and applies the size rules; `None` when it is dropped.
+fn finish(
+    mut points: Vec<Point>,
+    is_hole: bool,
+    parent: Option<usize>,
+    min_area: f64,
+) -> Option<Contour> {
+    if points.len() < 3 {
+        return None;
+    }
+    let area = signed_area(&points);
+    if !area.is_finite() || area == 0.0 || area.abs() < min_area {
+        return None;
+    }
+    if (area < 0.0) != is_hole {
+        points.reverse();
+    }
+    Some(Contour {
+        points,
+        is_hole,
+        parent,
+    })
+}
+
+/// Drops every contour whose ancestor was dropped and renumbers the parents.
+fn renumber(traced: Vec<Option<Contour>>, parents: Vec<Option<usize>>) -> Vec<Contour> {
+    let n = traced.len();
+    let alive = |mut i: usize| {
+        // A chain longer than n would be a cycle; treat it as dropped.
+        for _ in 0..=n {
+            if traced[i].is_none() {
+                return false;
+            }
+            match parents[i] {
+                Some(p) if p < n => i = p,
+                Some(_) => return false,
+                None => return true,
+            }
+        }
+        false
+    };
+    let keep: Vec<bool> = (0..n).map(alive).collect();
+    let mut new_index = vec![usize::MAX; n];
+    let mut next = 0;
+    for (i, &k) in keep.iter().enumerate() {
+        if k {
+            new_index[i] = next;
+            next += 1;
+        }
+    }
+    traced
+        .into_iter()
+        .zip(keep)
+        .filter_map(|(c, k)| if k { c } else { None })
+        .map(|mut c| {
+            c.parent = c.parent.map(|p| new_index[p]);
+            c
+        })
+        .collect()
+}
+
+/// Reusable buffers, so that tracing allocates per contour, not per point.
+#[derive(Default)]
+struct Workspace {
+    /// The outline being built.
+    points: Vec<Point>,
+    /// Unit walking direction (foreground on the right) at each point.
+    tangents: Vec<Point>,
+    /// Points that must survive clean-up and resampling exactly (corners, sharp turns).
+    anchors: Vec<bool>,
+    /// Bilevel: the raw crack midpoints.
+    raw: Vec<Point>,
+    /// Bilevel: the crack normals.
+    normals: Vec<Point>,
+    scratch: Vec<Point>,
+    scratch_tangents: Vec<Point>,
+    values: Vec<f64>,
+    /// Grey-level corner detector: chord angle at each point.
+    angles: Vec<f64>,
+    /// Grey-level corner detector: unrolled chord end indices at each point.
+    chord_ends: Vec<(i64, i64)>,
+    /// Bilevel: the regression bandwidth at each point.
+    sigma: Vec<f64>,
+    /// Bilevel: the run weight of each crack.
+    run_weight: Vec<f64>,
+    corners: Vec<usize>,
+}
+
+impl Workspace {
+    /// Grey-level path: every crack midpoint moved to the edge along its normal.
+    fn refined_outline(
+        &mut self,
+        bitmap: &Bitmap,
+        cracks: &[Crack],
+        estimator: EdgeEstimator,
+    ) -> Vec<Point> {
+        self.points.clear();
+        self.tangents.clear();
+        self.anchors.clear();
+        for crack in cracks {
+            let (p, n) = refine_crack(bitmap, crack, estimator);
+            self.points.push(p);
+            // Walking direction, foreground on the right: the normal turned by +90°.
+            self.tangents.push(n.perp());
+            self.anchors.push(false);
+        }
+        self.remove_close_and_backsteps();
+        self.sharpen_rounded_corners();
+        self.mark_turns();
+        self.resample()
+    }
+
+    /// Bilevel path: crack midpoints smoothed by weighted local regression, with sharp
+    /// corners.
+    fn bilevel_outline(&mut self, cracks: &[Crack], mask: &PaddedMask) -> Vec<Point> {
+        self.raw.clear();
+        self.raw.extend(cracks.iter().map(|c| c.mid));
+        self.normals.clear();
+        self.normals.extend(cracks.iter().map(|c| c.normal));
+        self.points.clear();
+        self.points.extend_from_slice(&self.raw);
+        let n = self.points.len();
+        self.anchors.clear();
+        self.anchors.resize(n, false);
+        if n >= 2 * CORNER_REACH + 2 {
+            if n >= MIN_CORNER_LOOP {
+                self.find_corners();
+                self.place_corners(mask, true);
+            } else {
+                self.corners.clear();
+            }
+            for &c in &self.corners {
+                self.anchors[c] = true;
+            }
+            self.smooth();
+            self.run_weights();
+            let mut window = Vec::new();
+            self.update_tangents();
+            self.choose_bandwidths(&mut window);
+            self.regress();
+            self.place_corners(mask, false);
+        }
+        self.update_tangents();
+        self.remove_close_and_backsteps();
+        self.mark_turns();
+        self.resample()
+    }
+
+    /// Bilevel corners: local maxima of the angle between the chords to the points
+    /// `CORNER_REACH` back and ahead, when above `CORNER_ANGLE_DEG`.
+    fn find_corners(&mut self) {
+        let pts = &self.points;
+        let n = pts.len();
+        let k = CORNER_REACH;
+        self.values.clear();
+        self.values.extend((0..n).map(|i| {
+            let back = pts[i] - pts[(i + n - k) % n];
+            let ahead = pts[(i + k) % n] - pts[i];
+            turn_angle(back, ahead)
+        }));
+        let a = &self.values;
+        let min = CORNER_ANGLE_DEG.to_radians();
+        self.corners.clear();
+        for i in 0..n {
+            let ai = a[i];
+            if ai >= min && (1..=k).all(|j| ai > a[(i + n - j) % n] && ai >= a[(i + j) % n]) {
+                self.corners.push(i);
+            }
+        }
+    }
+
+    /// [1, 2, 1]/4 smoothing, anchors held fixed (cyclic when there is none).
+    fn smooth(&mut self) {
+        let n = self.points.len();
+        for _ in 0..SMOOTHING_PASSES {
+            self.scratch.clear();
+            self.scratch.extend_from_slice(&self.points);
+            let src = &self.scratch;
+            for i in 0..n {
+                if self.anchors[i] {
+                    continue;
+                }
+                let a = src[(i + n - 1) % n];
+                let b = src[(i + 1) % n];
+                self.points[i] = (a + src[i] * 2.0 + b) * 0.25;
+            }
+        }
+    }
+
+    /// Unit tangents by central differences, one-sided next to anchors.
+    fn update_tangents(&mut self) {
+        let n = self.points.len();
+        self.tangents.clear();
+        for i in 0..n {
+            let prev = (i + n - 1) % n;
+            let next = (i + 1) % n;
+            let a = if self.anchors[prev] && !self.anchors[i] {
+                i
+            } else {
+                prev
+            };
+            let b = if self.anchors[next] && !self.anchors[i] {
+                i
+            } else {
+                next
+            };
+            let t = unit(self.points[b] - self.points[a])
+                .or_else(|| unit(self.points[next] - self.points[prev]))
+                .unwrap_or(Point::ZERO);
+            self.tangents.push(t);
+        }
+    }
+
+    /// Bilevel: each crack's share of its run. A run of equal cracks (a flat stretch of the
+    /// staircase) says only that the outline lies within ±0.5 px of it, an error shared by
+    /// all its cracks, so together they count as one observation.
+    fn run_weights(&mut self) {
+        let n = self.normals.len();
+        self.run_weight.clear();
+        self.run_weight.resize(n, 1.0);
+        let same = |a: usize, b: usize| self.normals[a] == self.normals[b];
+        // Start just after a change of direction, if there is one.
+        let Some(start) = (0..n).find(|&i| !same(i, (i + n - 1) % n)) else {
+            return;
+        };
+        let mut i = 0;
+        while i < n {
+            let first = (start + i) % n;
+            let mut len = 1;
+            while i + len < n && same(first, (first + len) % n) {
+                len += 1;
+            }
+            for k in 0..len {
+                self.run_weight[(first + k) % n] = 1.0 / len as f64;
+            }
+            i += len;
+        }
+    }
+
+    /// The cracks around point `i` that a regression window of half-width `reach` may
+    /// use, in the frame of the point's current position and tangent. The window stops at
+    /// anchors and where the outline has turned by more than 60°.
+    fn collect_window(&self, i: usize, reach: f64, window: &mut Vec<WindowPoint>) {
+        let n = self.points.len();
+        let half = n / 2;
+        let origin = self.points[i];
+        let tangent = self.tangents[i];
+        let normal = tangent.perp();
+        let reach_squared = reach * reach;
+        window.clear();
+        let mut add = |j: usize| -> bool {
+            let d = self.raw[j] - origin;
+            let distance_squared = d.length_squared();
+            if self.anchors[j]
+                || distance_squared > reach_squared
+                || self.tangents[j].dot(tangent) < MIN_WINDOW_TANGENT_COSINE
+            {
+                return false;
+            }
+            let half_normal = self.normals[j] * 0.5;
+            window.push(WindowPoint {
+                distance_squared,
+                u: d.dot(tangent),
+                v: d.dot(normal),
+                weight: self.values[j],
+                half_normal: Point::new(half_normal.dot(tangent), half_normal.dot(normal)),
+            });
+            true
+        };
+        add(i);
+        let mut back = 0;
+        while back < half && add((i + n - back - 1) % n) {
+            back += 1;
+        }
+        let mut ahead = 0;
+        while ahead + back < n - 1 && ahead < half && add((i + ahead + 1) % n) {
+            ahead += 1;
+        }
+    }
+
+    /// Bilevel: the weight of every crack for the current tangents (run weight × precision
+    /// weight, see [`BILEVEL_PRECISION_FLOOR`]), into `self.values`.
+    fn crack_weights(&mut self) {
+        self.values.clear();
+        for j in 0..self.raw.len() {
+            let across = self.normals[j].cross(self.tangents[j]);
+            self.values
+                .push(self.run_weight[j] / (across * across + BILEVEL_PRECISION_FLOOR));
+        }
+    }
+
+    /// Bilevel: the regression bandwidth of every point. Two limits, the smaller wins:
+    ///
+    /// * *curvature*: the flat run at the top of a digitised circle of radius R is up to
+    ///   √(8R) long and the window must reach the risers beyond it, so σ = 0.8·√(2R), with
+    ///   R from chords [`BANDWIDTH_CHORD`] cracks long on the current estimate;
+    /// * *consistency*: the widest of [`BANDWIDTHS`] whose fit passes between the
+    ///   foreground and background centres of every crack in its window, within
+    ///   [`FIT_PIXEL_SLACK`]. A window reaching from a straight side into a tight curve
+    ///   bulges and fails.
+    ///
+    /// The result is then averaged along the outline (in log scale, over
+    /// ±[`BANDWIDTH_SMOOTHING`] points) so that neighbouring points use similar windows and
+    /// the outline has no kinks.
+    fn choose_bandwidths(&mut self, window: &mut Vec<WindowPoint>) {
+        let n = self.points.len();
+        let k = BANDWIDTH_CHORD.min((n - 1) / 2).max(1);
+        self.crack_weights();
+        // log σ at every BANDWIDTH_STRIDE-th point, into `self.angles`.
+        let mut log_sigma = std::mem::take(&mut self.angles);
+        log_sigma.clear();
+        for i in (0..n).step_by(BANDWIDTH_STRIDE) {
+            let back = self.points[i] - self.points[(i + n - k) % n];
+            let ahead = self.points[(i + k) % n] - self.points[i];
+            let arc = 0.5 * (norm(back) + norm(ahead));
+            let curvature = if arc > 0.0 {
+                turn_angle(back, ahead) / arc
+            } else {
+                0.0
+            };
+            let by_curvature = if curvature > 0.0 {
+                (BANDWIDTH_PER_SQRT_DIAMETER * (2.0 / curvature).sqrt())
+                    .clamp(BANDWIDTHS[0], BANDWIDTHS[BANDWIDTHS.len() - 1])
+            } else {
+                BANDWIDTHS[BANDWIDTHS.len() - 1]
+            };
+            self.collect_window(i, BANDWIDTH_REACH * by_curvature, window);
+            // The widest consistent candidate, trying the widest first.
+            let candidates = std::iter::once(by_curvature).chain(
+                BANDWIDTHS
+                    .iter()
+                    .rev()
+                    .copied()
+                    .filter(|&s| s < by_curvature),
+            );
+            let mut sigma = BANDWIDTHS[0];
+            for candidate in candidates {
+                let consistent = fit_window(window, candidate)
+                    .is_some_and(|fit| fit_violation(window, candidate, fit) <= FIT_PIXEL_SLACK);
+                if consistent {
+                    sigma = candidate;
+                    break;
+                }
+            }
+            log_sigma.push(sigma.ln());
+        }
+        // A running mean of log σ over the sampled points, interpolated in between.
+        let m = log_sigma.len();
+        let r = (BANDWIDTH_SMOOTHING / BANDWIDTH_STRIDE)
+            .max(1)
+            .min((m - 1) / 2);
+        let mean_at = |s: usize| {
+            (0..=2 * r)
+                .map(|j| log_sigma[(s + m + j - r) % m])
+                .sum::<f64>()
+                / (2 * r + 1) as f64
+        };
+        let means: Vec<f64> = (0..m).map(mean_at).collect();
+        self.sigma.clear();
+        for i in 0..n {
+            let s = i / BANDWIDTH_STRIDE;
+            let start = s * BANDWIDTH_STRIDE;
+            // The next sample wraps round to the first one.
+            let end = if s + 1 < m {
+                start + BANDWIDTH_STRIDE
+            } else {
+                n
+            };
+            let t = (i - start) as f64 / (end - start) as f64;
+            let value = means[s] + (means[(s + 1) % m] - means[s]) * t;
+            self.sigma.push(value.exp());
+        }
+        self.angles = log_sigma;
+    }
+
+    /// One round of weighted local quadratic regression of the raw crack midpoints around
+    /// the current estimate. In the frame of each point (tangent u, normal v) it fits
+    /// v = a + b·u + c·u² with a biweight kernel of the point's bandwidth (see
+    /// [`Workspace::choose_bandwidths`]), the run weights and the precision weights of
+    /// [`BILEVEL_PRECISION_FLOOR`], and moves the point to v = a. Anchors stay put.
+    fn regress(&mut self) {
+        let n = self.points.len();
+        let half = n / 2;
+        self.crack_weights();
+        self.scratch.clear();
+        self.scratch_tangents.clear();
+        // The fit of the last fitted point: origin, tangent, (a, b, c).
+        let mut last: Option<(Point, Point, (f64, f64, f64))> = None;
+        for i in 0..n {
+            let origin = self.points[i];
+            let tangent = self.tangents[i];
+            if self.anchors[i] {
+                self.scratch.push(origin);
+                self.scratch_tangents.push(tangent);
+                last = None;
+                continue;
+            }
+            // Every other point lies on the previous point's fitted parabola.
+            if let (Some((o, t, (a, b, c))), true) = (last, i % REGRESSION_STRIDE != 0) {
+                let nrm = t.perp();
+                let u = (origin - o).dot(t);
+                self.scratch.push(o + t * u + nrm * (a + b * u + c * u * u));
+                self.scratch_tangents
+                    .push(unit(t + nrm * (b + 2.0 * c * u)).unwrap_or(tangent));
+                continue;
+            }
+            let normal = tangent.perp();
+            let reach = BANDWIDTH_REACH * self.sigma[i];
+            let inverse = 1.0 / (reach * reach);
+            // The same walk as `collect_window`, fitted on the fly.
+            let mut fit = QuadraticFit::default();
+            let mut add = |j: usize| -> bool {
+                let d = self.raw[j] - origin;
+                let x = d.length_squared() * inverse;
+                if self.anchors[j]
+                    || x > 1.0
+                    || self.tangents[j].dot(tangent) < MIN_WINDOW_TANGENT_COSINE
+                {
+                    return false;
+                }
+                let kernel = (1.0 - x) * (1.0 - x);
+                fit.add(d.dot(tangent), d.dot(normal), kernel * self.values[j]);
+                true
+            };
+            add(i);
+            let mut back = 0;
+            while back < half && add((i + n - back - 1) % n) {
+                back += 1;
+            }
+            let mut ahead = 0;
+            while ahead + back < n - 1 && ahead < half && add((i + ahead + 1) % n) {
+                ahead += 1;
+            }
+            match fit.solve() {
+                Some((a, b, c)) => {
+                    self.scratch.push(origin + normal * a);
+                    self.scratch_tangents
+                        .push(unit(tangent + normal * b).unwrap_or(tangent));
+                    last = Some((origin, tangent, (a, b, c)));
+                }
+                None => {
+                    self.scratch.push(origin);
+                    self.scratch_tangents.push(tangent);
+                    last = None;
+                }
+            }
+        }
+        std::mem::swap(&mut self.points, &mut self.scratch);
+        std::mem::swap(&mut self.tangents, &mut self.scratch_tangents);
+    }
+
+    /// Places each bilevel corner at the intersection of the lines fitted to the current
+    /// points on its two sides (up to `CORNER_FIT_POINTS`, never past the neighbouring
+    /// corners), when that corner is *consistent with the pixels*: the foreground centres
+    /// of the cracks around it lie inside the two side lines' wedge and the background
+    /// centres outside (within `CORNER_PIXEL_SLACK`). A digitised curve seen as a corner
+    /// fails this: its extrapolated corner covers background pixels. With `drop_rejected`,
+    /// rejected candidates are forgotten; otherwise they stop being anchors and move to the
+    /// middle of their neighbours.
+    fn place_corners(&mut self, mask: &PaddedMask, drop_rejected: bool) {
+        let n = self.points.len();
+        let m = self.corners.len();
+        if m == 0 {
+            return;
+        }
+        self.scratch.clear();
+        self.scratch.extend_from_slice(&self.points);
+        let mut accepted = Vec::with_capacity(m);
+        for ci in 0..m {
+            let c = self.corners[ci];
+            let prev = self.corners[(ci + m - 1) % m];
+            let next = self.corners[(ci + 1) % m];
+            // Points strictly between this corner and its neighbours (the whole loop when
+            // it is the only corner).
+            let gap_back = if m == 1 {
+                n - 1
+            } else {
+                (c + n - prev) % n - 1
+            };
+            let gap_ahead = if m == 1 {
+                n - 1
+            } else {
+                (next + n - c) % n - 1
+            };
+            let most = CORNER_FIT_POINTS.min(n / 6);
+            let back_count = gap_back.min(most);
+            let ahead_count = gap_ahead.min(most);
+            let corner = self.corner_from_sides(mask, c, back_count, ahead_count);
+            match corner {
+                Some(x) => {
+                    self.points[c] = x;
+                    accepted.push(c);
+                }
+                None if !drop_rejected => {
+                    // Not a corner after all: the point joins its neighbours.
+                    let p = self.scratch[(c + n - 1) % n];
+                    let q = self.scratch[(c + 1) % n];
+                    self.points[c] = p.lerp(q, 0.5);
+                    self.anchors[c] = false;
+                }
+                None => {}
+            }
+        }
+        self.corners = accepted;
+    }
+
+    /// The corner at `c` from `back`/`ahead` points on each side of `self.scratch`, checked
+    /// against the cracks in that range and the 5×5 pixels around the corner (see
+    /// [`Workspace::place_corners`]).
+    fn corner_from_sides(
+        &self,
+        mask: &PaddedMask,
+        c: usize,
+        back: usize,
+        ahead: usize,
+    ) -> Option<Point> {
+        let n = self.scratch.len();
+        let pts = &self.scratch;
+        let (back_line, _) = fit_line((1..=back).map(|j| pts[(c + n - j) % n]))?;
+        let (ahead_line, _) = fit_line((1..=ahead).map(|j| pts[(c + j) % n]))?;
+        let x = intersect(back_line, ahead_line)?;
+        if norm(x - pts[c]) > MAX_CORNER_MOVE {
+            return None;
+        }
+        // Orient both lines along the walk.
+        let orient = |d: Point, along: Point| if d.dot(along) < 0.0 { -d } else { d };
+        let da = orient(back_line.direction, pts[c] - pts[(c + n - back) % n]);
+        let db = orient(ahead_line.direction, pts[(c + ahead) % n] - pts[c]);
+        if turn_angle(da, db) < CORNER_LINE_ANGLE_DEG.to_radians() {
+            return None;
+        }
+        let convex = da.cross(db) > 0.0;
+        let slack = CORNER_PIXEL_SLACK;
+        let inside = |q: Point| {
+            let (a, b) = (da.cross(q - x), db.cross(q - x));
+            if convex {
+                a > -slack && b > -slack
+            } else {
+                a > -slack || b > -slack
+            }
+        };
+        let outside = |q: Point| {
+            let (a, b) = (da.cross(q - x), db.cross(q - x));
+            if convex {
+                a < slack || b < slack
+            } else {
+                a < slack && b < slack
+            }
+        };
+        let cracks_agree = (0..=back + ahead).all(|k| {
+            let j = (c + n + k - back) % n;
+            let half = self.normals[j] * 0.5;
+            inside(self.raw[j] - half) && outside(self.raw[j] + half)
+        });
+        // The pixels around the corner itself, diagonal neighbours included.
+        let (cx, cy) = (x.x.floor() as i64, x.y.floor() as i64);
+        let pixels_agree = (cy - 2..=cy + 2).all(|r| {
+            (cx - 2..=cx + 2).all(|col| {
+                let q = Point::new(col as f64 + 0.5, r as f64 + 0.5);
+                // Image pixel (col, r) is padded pixel (col + 1, r + 1).
+                let fg = mask.is_foreground((col + 1, r + 1));
+                if fg {
+                    inside(q)
+                } else {
+                    outside(q)
+                }
+            })
+        });
+        (cracks_agree && pixels_agree).then_some(x)
+    }
+
+    /// Grey-level path: anti-aliasing rounds corners off (by up to ~0.6 px for a right
+    /// angle). Where the outline turns by more than `GREY_CORNER_ANGLE_DEG` within a few
+    /// pixels and both sides are straight (residual below `GREY_CORNER_RESIDUAL`) beyond
+    /// the rounded part, the rounded points are replaced by the intersection of the two
+    /// side lines, which becomes an anchor.
+    fn sharpen_rounded_corners(&mut self) {
+        let n = self.points.len();
+        if n < 8 {
+            return;
+        }
+        // Cumulative arc length, and arc length at an unrolled index.
+        self.values.clear();
+        self.values.push(0.0);
+        for i in 0..n {
+            let step = norm(self.points[(i + 1) % n] - self.points[i]);
+            self.values.push(self.values[i] + step);
+        }
+        let total = self.values[n];
+        if total < 4.0 * (GREY_CORNER_SKIP + GREY_CORNER_SIDE) {
+            return;
+        }
+        let nn = n as i64;
+        let arc = |k: i64| self.values[k.rem_euclid(nn) as usize] + total * k.div_euclid(nn) as f64;
+        let at = |k: i64| self.points[k.rem_euclid(nn) as usize];
+        // The last index at least `length` of arc before / after i.
+        let back_by = |i: i64, length: f64| {
+            let mut k = i - 1;
+            while k > i - nn && arc(i) - arc(k) < length {
+                k -= 1;
+            }
+            k
+        };
+        let ahead_by = |i: i64, length: f64| {
+            let mut k = i + 1;
+            while k < i + nn && arc(k) - arc(i) < length {
+                k += 1;
+            }
+            k
+        };
+        // Chord angle at every point (two pointers).
+        let mut angles = std::mem::take(&mut self.angles);
+        angles.clear();
+        let mut chord_ends = std::mem::take(&mut self.chord_ends);
+        chord_ends.clear();
+        let (mut b, mut a) = (
+            back_by(0, GREY_CORNER_REACH),
+            ahead_by(0, GREY_CORNER_REACH),
+        );
+        for i in 0..nn {
+            while arc(i) - arc(b + 1) >= GREY_CORNER_REACH {
+                b += 1;
+            }
+            if a <= i {
+                a = i + 1;
+            }
+            while a < i + nn && arc(a) - arc(i) < GREY_CORNER_REACH {
+                a += 1;
+            }
+            angles.push(turn_angle(at(i) - at(b), at(a) - at(i)));
+            chord_ends.push((b, a));
+        }
+        let min = GREY_CORNER_ANGLE_DEG.to_radians();
+        let angle_at = |k: i64| angles[k.rem_euclid(nn) as usize];
+        // (first removed unrolled index, removed count, new point)
+        let mut edits: Vec<(i64, i64, Point)> = Vec::new();
+        let mut last_end = i64::MIN;
+        for i in 0..nn {
+            let ai = angles[i as usize];
+            let (b, a) = chord_ends[i as usize];
+            let is_max = ai >= min
+                && (b + 1..i).all(|k| ai > angle_at(k))
+                && (i + 1..a).all(|k| ai >= angle_at(k));
+            if !is_max {
+                continue;
+            }
+            let inner_back = back_by(i, GREY_CORNER_SKIP);
+            let outer_back = back_by(i, GREY_CORNER_SKIP + GREY_CORNER_SIDE);
+            let inner_ahead = ahead_by(i, GREY_CORNER_SKIP);
+            let outer_ahead = ahead_by(i, GREY_CORNER_SKIP + GREY_CORNER_SIDE);
+            if inner_back - outer_back < 2
+                || outer_ahead - inner_ahead < 2
+                || outer_ahead - outer_back >= nn
+                || outer_back < last_end
+            {
+                continue;
+            }
+            let back_line = fit_line((outer_back..=inner_back).map(at));
+            let ahead_line = fit_line((inner_ahead..=outer_ahead).map(at));
+            let (Some((la, ra)), Some((lb, rb))) = (back_line, ahead_line) else {
+                continue;
+            };
+            if ra > GREY_CORNER_RESIDUAL || rb > GREY_CORNER_RESIDUAL {
+                continue;
+            }
+            let Some(x) = intersect(la, lb) else {
+                continue;
+            };
+            if distance_to_closed_polyline(x, &self.points) > GREY_CORNER_MOVE {
+                continue;
+            }
+            // Replace the points strictly between the two inner side points.
+            edits.push((inner_back + 1, inner_ahead - inner_back - 1, x));
+            last_end = outer_ahead;
+        }
+        // The last edit must not overlap the first one across the closing joint.
+        if edits.len() > 1 {
+            let (first_start, _, _) = edits[0];
+            let (last_start, last_count, _) = edits[edits.len() - 1];
+            if last_start + last_count > first_start + nn {
+                edits.pop();
+            }
+        }
+        self.angles = angles;
+        self.chord_ends = chord_ends;
+        if edits.is_empty() {
+            return;
+        }
+        let mut remove = vec![false; n];
+        let mut insert_at = vec![None; n];
+        for &(first, count, x) in &edits {
+            for k in first..first + count {
+                remove[k.rem_euclid(nn) as usize] = true;
+            }
+            insert_at[first.rem_euclid(nn) as usize] = Some(x);
+        }
+        self.scratch.clear();
+        self.scratch_tangents.clear();
+        let mut anchors = Vec::with_capacity(n);
+        for j in 0..n {
+            if let Some(x) = insert_at[j] {
+                self.scratch.push(x);
+                self.scratch_tangents.push(self.tangents[j]);
+                anchors.push(true);
+            }
+            if !remove[j] {
+                self.scratch.push(self.points[j]);
+                self.scratch_tangents.push(self.tangents[j]);
+                anchors.push(self.anchors[j]);
+            }
+        }
+        std::mem::swap(&mut self.points, &mut self.scratch);
+        std::mem::swap(&mut self.tangents, &mut self.scratch_tangents);
+        self.anchors = anchors;
+    }
+
+    /// Removes points within `MIN_SPACING` of the last kept one and points that step
+    /// backwards along the last kept point's tangent. Anchors are kept in preference.
+    fn remove_close_and_backsteps(&mut self) {
+        let n = self.points.len();
+        self.anchors.resize(n, false);
+        let mut kept = 0usize;
+        for i in 0..n {
+            let p = self.points[i];
+            if kept > 0 {
+                let q = self.points[kept - 1];
+                let step = p - q;
+                let too_close = step.length_squared() < MIN_SPACING * MIN_SPACING;
+                let backwards = step.dot(self.tangents[kept - 1]) < 0.0;
+                if too_close || backwards {
+                    if self.anchors[i] && !self.anchors[kept - 1] && !backwards {
+                        // Keep the anchor instead of its near neighbour.
+                        self.points[kept - 1] = p;
+                        self.tangents[kept - 1] = self.tangents[i];
+                        self.anchors[kept - 1] = true;
+                    }
+                    continue;
+                }
+            }
+            self.points[kept] = p;
+            self.tangents[kept] = self.tangents[i];
+            self.anchors[kept] = self.anchors[i];
+            kept += 1;
+        }
+        // Across the closing joint.
+        while kept > 3 && norm(self.points[kept - 1] - self.points[0]) < MIN_SPACING {
+            if self.anchors[kept - 1] && !self.anchors[0] {
+                self.points[0] = self.points[kept - 1];
+                self.anchors[0] = true;
+            }
+            kept -= 1;
+        }
+        self.points.truncate(kept);
+        self.tangents.truncate(kept);
+        self.anchors.truncate(kept);
+    }
+
+    /// Marks as anchors the points where the outline turns by more than `ANCHOR_TURN_DEG`.
+    fn mark_turns(&mut self) {
+        let n = self.points.len();
+        if n < 3 {
+            return;
+        }
+        let limit = ANCHOR_TURN_DEG.to_radians();
+        for i in 0..n {
+            let p = self.points[i];
+            let turn = turn_angle(
+                p - self.points[(i + n - 1) % n],
+                self.points[(i + 1) % n] - p,
+            );
+            if turn > limit {
+                self.anchors[i] = true;
+            }
+        }
+    }
+
+    /// Resamples the closed polyline to about `TARGET_SPACING`, keeping anchors exactly.
+    fn resample(&self) -> Vec<Point> {
+        let pts = &self.points;
+        let n = pts.len();
+        if n < 3 {
+            return pts.clone();
+        }
+        let start = self.anchors.iter().position(|&a| a).unwrap_or(0);
+        let mut out = Vec::with_capacity(n);
+        let mut i = start;
+        loop {
+            // The span from anchor i to the next anchor (or around the whole loop).
+            let mut j = (i + 1) % n;
+            let mut length = norm(pts[j] - pts[i]);
+            while !self.anchors[j] && j != start {
+                let k = (j + 1) % n;
+                length += norm(pts[k] - pts[j]);
+                j = k;
+            }
+            let pieces = ((length / TARGET_SPACING).round() as usize).max(1);
+            out.push(pts[i]);
+            let step = length / pieces as f64;
+            let mut seg = i;
+            let mut seg_start = 0.0;
+            let mut seg_len = norm(pts[(seg + 1) % n] - pts[seg]);
+            for m in 1..pieces {
+                let target = m as f64 * step;
+                while seg_start + seg_len < target && (seg + 1) % n != j {
+                    seg_start += seg_len;
+                    seg = (seg + 1) % n;
+                    seg_len = norm(pts[(seg + 1) % n] - pts[seg]);
+                }
+                let t = if seg_len > 0.0 {
+                    ((target - seg_start) / seg_len).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                out.push(pts[seg].lerp(pts[(seg + 1) % n], t));
+            }
+            if j == start {
+                break;
+            }
+            i = j;
+        }
+        out
+    }
+}
+
+/// Accumulates a weighted least-squares fit of v = a + b·u + c·u².
+#[derive(Default)]
+struct QuadraticFit {
+    /// Σw·uᵏ for k = 0..=4.
+    moments: [f64; 5],
+    /// Σw·v·uᵏ for k = 0..=2.
+    rhs: [f64; 3],
+    count: usize,
+}
+
+impl QuadraticFit {
+    #[inline]
+    fn add(&mut self, u: f64, v: f64, w: f64) {
+        let (w1, w2) = (w * u, w * u * u);
+        self.moments[0] += w;
+        self.moments[1] += w1;
+        self.moments[2] += w2;
+        self.moments[3] += w2 * u;
+        self.moments[4] += w2 * u * u;
+        self.rhs[0] += w * v;
+        self.rhs[1] += w1 * v;
+        self.rhs[2] += w2 * v;
+        self.count += 1;
+    }
+
+    /// (a, b, c). Falls back to a line, then to the weighted mean, when the points do not
+    /// determine the higher terms.
+    fn solve(&self) -> Option<(f64, f64, f64)> {
+        let [m0, m1, m2, m3, m4] = self.moments;
+        let [r0, r1, r2] = self.rhs;
+        if m0.is_nan() || m0 <= 0.0 {
+            return None;
+        }
+        if self.count >= 4 {
+            let det =
+                m0 * (m2 * m4 - m3 * m3) - m1 * (m1 * m4 - m3 * m2) + m2 * (m1 * m3 - m2 * m2);
+            if det.abs() > 1e-9 * m0 * m2 * m4 {
+                let a = (r0 * (m2 * m4 - m3 * m3) - m1 * (r1 * m4 - m3 * r2)
+                    + m2 * (r1 * m3 - m2 * r2))
+                    / det;
+                let b = (m0 * (r1 * m4 - m3 * r2) - r0 * (m1 * m4 - m3 * m2)
+                    + m2 * (m1 * r2 - r1 * m2))
+                    / det;
+                let c = (m0 * (m2 * r2 - m3 * r1) - m1 * (m1 * r2 - m3 * r0)
+                    + m2 * (m1 * r1 - m2 * r0))
+                    / det;
+                if a.is_finite() && b.is_finite() && c.is_finite() {
+                    return Some((a, b, c));
+                }
+            }
+        }
+        let det = m0 * m2 - m1 * m1;
+        if self.count >= 2 && det > 1e-9 * m0 * m2 {
+            let a = (r0 * m2 - m1 * r1) / det;
+            let b = (m0 * r1 - m1 * r0) / det;
+            return Some((a, b, 0.0));
+        }
+        Some((r0 / m0, 0.0, 0.0))
+    }
+}
+
+/// The quadratic fit of a window with bandwidth `sigma` (biweight kernel of half-width
+/// `BANDWIDTH_REACH · sigma`: smooth and zero at its edge, so that precise points do not
+/// jump in and out of the fit as the origin moves).
+fn fit_window(window: &[WindowPoint], sigma: f64) -> Option<(f64, f64, f64)> {
+    let reach = BANDWIDTH_REACH * sigma;
+    let inverse = 1.0 / (reach * reach);
+    let mut fit = QuadraticFit::default();
+    for w in window {
+        let x = w.distance_squared * inverse;
+        if x < 1.0 {
+            let kernel = (1.0 - x) * (1.0 - x);
+            fit.add(w.u, w.v, kernel * w.weight);
+        }
+    }
+    fit.solve()
+}
+
+/// How far (px) the fitted curve puts a crack's foreground centre outside, or its
+/// background centre inside; 0 when every crack in the window is respected.
+fn fit_violation(window: &[WindowPoint], sigma: f64, (a, b, c): (f64, f64, f64)) -> f64 {
+    let reach = BANDWIDTH_REACH * sigma;
+    let reach_squared = reach * reach;
+    let curve = |u: f64| a + b * u + c * u * u;
+    window
+        .iter()
+        .filter(|w| w.distance_squared < reach_squared)
+        .map(|w| {
+            let h = w.half_normal;
+            let inner = curve(w.u - h.x) - (w.v - h.y);
+            let outer = (w.v + h.y) - curve(w.u + h.x);
+            inner.max(outer)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// One crack in a bilevel regression window, in the frame of the window's origin.
+#[derive(Clone, Copy, Debug)]
+struct WindowPoint {
+    /// Squared distance of the crack midpoint from the origin.
+    distance_squared: f64,
+    /// Tangential coordinate of the crack midpoint.
+    u: f64,
+    /// Normal coordinate of the crack midpoint (positive towards the foreground).
+    v: f64,
+    /// Run weight × precision weight.
+    weight: f64,
+    /// Half the crack normal, as (u, v): the background pixel centre is at
+    /// (u, v) + this, the foreground centre at (u, v) − this.
+    half_normal: Point,
+}
+
+/// Distance from `p` to a closed polyline.
+fn distance_to_closed_polyline(p: Point, pts: &[Point]) -> f64 {
+    let n = pts.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            let ab = b - a;
+            let len2 = ab.length_squared();
+            let t = if len2 > 0.0 {
+                ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            norm(p - (a + ab * t))
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Euclidean length without `hypot` (which is several times slower and whose extra
+/// range is not needed for pixel coordinates).
+#[inline]
+fn norm(p: Point) -> f64 {
+    p.length_squared().sqrt()
+}
+
+/// The vector scaled to unit length, or `None` if it is zero or not finite.
+#[inline]
+fn unit(p: Point) -> Option<Point> {
+    let length = norm(p);
+    (length > 0.0 && length.is_finite()).then(|| p / length)
+}
+
+/// Angle in [0, π] between two vectors; 0 when either is zero.
+#[inline]
+fn turn_angle(a: Point, b: Point) -> f64 {
+    a.cross(b).abs().atan2(a.dot(b))
+}
+
+/// A line through `origin` along the unit vector `direction`.
+#[derive(Clone, Copy, Debug)]
+struct Line {
+    origin: Point,
+    direction: Point,
+}
+
+/// Total least-squares line through at least two distinct points, with the largest
+/// distance of a point from it.
+fn fit_line(points: impl Iterator<Item = Point> + Clone) -> Option<(Line, f64)> {
+    let mut count = 0.0;
+    let mut sum = Point::ZERO;
+    for p in points.clone() {
+        count += 1.0;
+        sum += p;
+    }
+    if count < 2.0 {
+        return None;
+    }
+    let mean = sum / count;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in points.clone() {
+        let d = p - mean;
+        sxx += d.x * d.x;
+        sxy += d.x * d.y;
+        syy += d.y * d.y;
+    }
+    if sxx + syy < 1e-12 {
+        return None;
+    }
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let direction = Point::new(angle.cos(), angle.sin());
+    let residual = points
+        .map(|p| (p - mean).cross(direction).abs())
+        .fold(0.0, f64::max);
+    Some((
+        Line {
+            origin: mean,
+            direction,
+        },
+        residual,
+    ))
+}
+
+/// Intersection of two lines that cross at more than 25°.
+fn intersect(a: Line, b: Line) -> Option<Point> {
+    let cross = a.direction.cross(b.direction);
+    if cross.abs() < 25f64.to_radians().sin() {
+        return None;
+    }
+    let s = (b.origin - a.origin).cross(b.direction) / cross;
+    let x = a.origin + a.direction * s;
+    x.is_finite().then_some(x)
+}
+
+/// Unit normal pointing down the coverage gradient (towards the background) at a crack,
+/// from a Sobel-like 3×2 stencil on the two pixel rows that the crack separates: the
+/// difference across the crack weighted 1-2-1 along it, and the central difference along
+/// it summed over both rows. Both are per pixel after dividing by 4, so the common factor
+/// is dropped.
+fn gradient_normal(bitmap: &Bitmap, crack: &Crack) -> Option<Point> {
+    let n = crack.normal;
+    let t = n.perp();
+    // Pixel indices of the foreground (inside) and background (outside) pixels.
+    let (ic, ir) = crack.inside;
+    let (nx, ny) = (n.x as i64, n.y as i64);
+    let (tx, ty) = (t.x as i64, t.y as i64);
+    let at = |c: i64, r: i64| f64::from(bitmap.coverage_at(c, r));
+    let (oc, or) = (ic + nx, ir + ny);
+    let across = (at(oc - tx, or - ty) + 2.0 * at(oc, or) + at(oc + tx, or + ty))
+        - (at(ic - tx, ir - ty) + 2.0 * at(ic, ir) + at(ic + tx, ir + ty));
+    let along = (at(ic + tx, ir + ty) + at(oc + tx, or + ty))
+        - (at(ic - tx, ir - ty) + at(oc - tx, or - ty));
+    let g = n * across + t * along;
+    let length = norm(g);
+    (length > 0.0 && length.is_finite()).then(|| -g / length)
+}
+
+/// Moves a crack midpoint to the edge; returns the point and the normal used.
+fn refine_crack(bitmap: &Bitmap, crack: &Crack, estimator: EdgeEstimator) -> (Point, Point) {
+    let n = gradient_normal(bitmap, crack)
+        .filter(|g| g.dot(crack.normal) >= MIN_NORMAL_AGREEMENT)
+        .unwrap_or(crack.normal);
+    let s = match estimator {
+        EdgeEstimator::CoverageIntegral => Some(integrate_edge(bitmap, crack.mid, n)),
+        EdgeEstimator::LevelCrossing => level_crossing(bitmap, crack.mid, n),
+    };
+    match s {
+        Some(s) if s.is_finite() && s.abs() <= MAX_SHIFT => (crack.mid + n * s, n),
+        _ => {
+            // Fall back to the threshold crossing between the two pixel centres.
+            let half = crack.normal * 0.5;
+            let f_in = bitmap.sample(crack.mid - half);
+            let f_out = bitmap.sample(crack.mid + half);
+            let t = bitmap.threshold();
+            let s = if f_in > f_out {
+                ((f_in - t) / (f_in - f_out) - 0.5).clamp(-0.5, 0.5)
+            } else {
+                0.0
+            };
+            (crack.mid + crack.normal * s, crack.normal)
+        }
+    }
+}
+
+/// Signed distance from `m` along `n` to the edge by coverage integration: the edge of a
+/// step from 1 to 0 at s = e satisfies ∫₋ₕʰ f ds = e + h.
+fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point) -> f64 {
+    let ds = HALF_WINDOW / WINDOW_STEPS as f64;
+    let f0 = bitmap.sample(m);
+
+    // Outward: ∫₀ʰ f ds, f taken as 0 past its minimum.
+    let mut outward = 0.0;
+    let mut prev = f0;
+    let mut lowest = f0;
+    for j in 1..=WINDOW_STEPS {
+        if prev <= 0.0 {
+            break;
+        }
+        let f = bitmap.sample(m + n * (j as f64 * ds));
+        if f > lowest + MONOTONE_SLACK {
+            break;
+        }
+        outward += 0.5 * (prev + f) * ds;
+        lowest = lowest.min(f);
+        prev = f;
+    }
+
+    // Inward: ∫₋ₕ⁰ f ds, f taken as 1 past its maximum.
+    let mut inward = 0.0;
+    let mut prev = f0;
+    let mut highest = f0;
+    let mut reached = 0.0;
+    for j in 1..=WINDOW_STEPS {
+        if prev >= 1.0 {
+            break;
+        }
+        let f = bitmap.sample(m - n * (j as f64 * ds));
+        if f < highest - MONOTONE_SLACK {
+            break;
+        }
+        inward += 0.5 * (prev + f) * ds;
+        highest = highest.max(f);
+        prev = f;
+        reached = j as f64 * ds;
+    }
+    inward += HALF_WINDOW - reached;
+    inward + outward - HALF_WINDOW
+}
+
+/// Signed distance from `m` along `n` to where the bilinear coverage crosses the threshold,
+/// nearest to `m`.
+fn level_crossing(bitmap: &Bitmap, m: Point, n: Point) -> Option<f64> {
+    let ds = HALF_WINDOW / WINDOW_STEPS as f64;
+    let t = bitmap.threshold();
+    let f0 = bitmap.sample(m);
+    // Walk outward while inside, inward while outside.
+    let dir = if f0 >= t { 1.0 } else { -1.0 };
+    let mut prev = f0;
+    for j in 1..=WINDOW_STEPS {
+        let s = dir * j as f64 * ds;
+        let f = bitmap.sample(m + n * s);
+        if (f >= t) != (f0 >= t) {
+            let frac = (prev - t) / (prev - f);
+            return Some(dir * ((j - 1) as f64 + frac) * ds);
+        }
+        prev = f;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::angle_between;
+
+    /// Coverage of a shape by `ss`×`ss` supersampling of each pixel.
+    fn supersample(w: u32, h: u32, ss: u32, inside: impl Fn(f64, f64) -> bool) -> Vec<f32> {
+        let mut cov = Vec::with_capacity((w * h) as usize);
+        for r in 0..h {
+            for c in 0..w {
+                let mut hits = 0;
+                for j in 0..ss {
+                    for i in 0..ss {
+                        let x = c as f64 + (i as f64 + 0.5) / ss as f64;
+                        let y = r as f64 + (j as f64 + 0.5) / ss as f64;
+                        hits += u32::from(inside(x, y));
+                    }
+                }
+                cov.push(hits as f32 / (ss * ss) as f32);
+            }
+        }
+        cov
+    }
+
+    /// A 0/1 image of a shape sampled at pixel centres.
+    fn binary(w: u32, h: u32, inside: impl Fn(f64, f64) -> bool) -> Vec<f32> {
+        supersample(w, h, 1, inside)
+    }
+
+    fn opts(min_area: f64) -> ContourOptions {
+        ContourOptions { min_area }
+    }
+
+    /// Distance from `p` to the closed polyline.
+    fn distance_to_polyline(p: Point, pts: &[Point]) -> f64 {
+        let n = pts.len();
+        (0..n)
+            .map(|i| {
+                let (a, b) = (pts[i], pts[(i + 1) % n]);
+                let ab = b - a;
+                let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+                p.distance(a + ab * t)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn disk_bitmap(ss: u32) -> (Bitmap, Point, f64) {
+        let centre = Point::new(24.37, 25.81);
+        let radius = 20.0;
+        let cov = supersample(50, 52, ss, |x, y| {
+            Point::new(x, y).distance(centre) < radius
+        });
+        (
+            Bitmap::from_coverage(50, 52, cov, None).unwrap(),
+            centre,
+            radius,
+        )
+    }
+
+    /// (max, mean) of |distance to centre − radius|.
+    fn circle_errors(pts: &[Point], centre: Point, radius: f64) -> (f64, f64) {
+        let errs: Vec<f64> = pts
+            .iter()
+            .map(|p| (p.distance(centre) - radius).abs())
+            .collect();
+        let max = errs.iter().cloned().fold(0.0, f64::max);
+        (max, errs.iter().sum::<f64>() / errs.len() as f64)
+    }
+
+    #[test]
+    fn antialiased_disk_is_refined_to_a_twentieth_of_a_pixel() {
+        let (bm, centre, radius) = disk_bitmap(16);
+        assert!(!bm.is_bilevel());
+        let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+        assert_eq!(cs.len(), 1);
+        let c = &cs[0];
+        assert!(!c.is_hole && c.parent.is_none());
+        let (max, mean) = circle_errors(&c.points, centre, radius);
+        eprintln!("integral: max {max:.4} mean {mean:.4} n {}", c.points.len());
+        assert!(max < 0.05, "max |r − R| = {max}");
+        assert!(mean < 0.02, "mean |r − R| = {mean}");
+        // About one point per 0.8 px of the 125.7 px circumference.
+        let n = c.points.len() as f64;
+        assert!((140.0..180.0).contains(&n), "{n} points");
+        let area = signed_area(&c.points);
+        let true_area = std::f64::consts::PI * radius * radius;
+        assert!((area - true_area).abs() < 0.01 * true_area, "{area}");
+    }
+
+    #[test]
+    fn coverage_integration_beats_the_threshold_crossing() {
+        let (bm, centre, radius) = disk_bitmap(16);
+        let integral = extract_with(&bm, &opts(2.0), EdgeEstimator::CoverageIntegral).unwrap();
+        let crossing = extract_with(&bm, &opts(2.0), EdgeEstimator::LevelCrossing).unwrap();
+        let (imax, imean) = circle_errors(&integral[0].points, centre, radius);
+        let (cmax, cmean) = circle_errors(&crossing[0].points, centre, radius);
+        eprintln!("integral {imax:.4}/{imean:.4}, crossing {cmax:.4}/{cmean:.4}");
+        assert!(imax < cmax && imean < cmean);
+    }
+
+    /// Turning angle (degrees) at every point of a closed polyline.
+    fn turning_degrees(pts: &[Point]) -> Vec<f64> {
+        let n = pts.len();
+        (0..n)
+            .map(|i| {
+                let p = pts[i];
+                angle_between(p - pts[(i + n - 1) % n], pts[(i + 1) % n] - p).to_degrees()
+            })
+            .collect()
+    }
+
+    /// Corners of a square of side `side` centred at `centre`, rotated by `deg`.
+    fn square_corners(centre: Point, side: f64, deg: f64) -> [Point; 4] {
+        let (s, c) = deg.to_radians().sin_cos();
+        let u = Point::new(c, s) * (side / 2.0);
+        let v = Point::new(-s, c) * (side / 2.0);
+        [
+            centre - u - v,
+            centre + u - v,
+            centre + u + v,
+            centre - u + v,
+        ]
+    }
+
+    /// Inside test for a convex polygon given clockwise on screen.
+    fn inside_convex(poly: &[Point], p: Point) -> bool {
+        let n = poly.len();
+        (0..n).all(|i| (poly[(i + 1) % n] - poly[i]).cross(p - poly[i]) > 0.0)
+    }
+
+    #[test]
+    fn antialiased_rotated_square_keeps_its_corners() {
+        let corners = square_corners(Point::new(20.3, 19.6), 24.0, 30.0);
+        let cov = supersample(40, 40, 16, |x, y| inside_convex(&corners, Point::new(x, y)));
+        let bm = Bitmap::from_coverage(40, 40, cov, None).unwrap();
+        assert!(!bm.is_bilevel());
+        let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+        assert_eq!(cs.len(), 1);
+        let pts = &cs[0].points;
+        for corner in corners {
+            let d = distance_to_polyline(corner, pts);
+            eprintln!("AA corner distance {d:.3}");
+            assert!(d < 0.3, "corner {corner:?} is {d} px from the outline");
+        }
+        // Away from the corners the points lie on the sides.
+        let mut worst: f64 = 0.0;
+        for p in pts {
+            if corners.iter().all(|c| c.distance(*p) > 1.5) {
+                let d = (0..4)
+                    .map(|i| {
+                        let (a, b) = (corners[i], corners[(i + 1) % 4]);
+                        ((*p - a).cross(b - a) / (b - a).length()).abs()
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(d);
+            }
+        }
+        eprintln!("AA square side error {worst:.4}");
+        assert!(worst < 0.05, "side error {worst}");
+    }
+
+    #[test]
+    fn bilevel_disk_is_smooth_and_close() {
+        let centre = Point::new(50.3, 49.6);
+        let radius = 40.0;
+        let cov = binary(101, 100, |x, y| Point::new(x, y).distance(centre) < radius);
+        let bm = Bitmap::from_coverage(101, 100, cov, None).unwrap();
+        assert!(bm.is_bilevel());
+        let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+        assert_eq!(cs.len(), 1);
+        let pts = &cs[0].points;
+        let (max, mean) = circle_errors(pts, centre, radius);
+        let turn = turning_degrees(pts).into_iter().fold(0.0, f64::max);
+        eprintln!(
+            "bilevel disk: max {max:.3} mean {mean:.3} turn {turn:.1}° n {}",
+            pts.len()
+        );
+        assert!(max < 0.35, "max |r − R| = {max}");
+        assert!(turn < 25.0, "turn {turn}°");
+    }
+
+    #[test]
+    fn bilevel_square_stays_square() {
+        // Pixels 5..=24 in both directions: the square [5, 25]².
+        let cov = binary(30, 30, |x, y| {
+            (5.0..25.0).contains(&x) && (5.0..25.0).contains(&y)
+        });
+        let bm = Bitmap::from_coverage(30, 30, cov, None).unwrap();
+        assert!(bm.is_bilevel());
+        let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+        assert_eq!(cs.len(), 1);
+        let pts = &cs[0].points;
+        for corner in [(5.0, 5.0), (25.0, 5.0), (25.0, 25.0), (5.0, 25.0)] {
+            let corner = Point::new(corner.0, corner.1);
+            let d = pts
+                .iter()
+                .map(|p| p.distance(corner))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d < 0.05, "corner {corner:?} at {d}");
+        }
+        // Every point on a side: the straight runs stay straight.
+        for p in pts {
+            let d = [p.x - 5.0, 25.0 - p.x, p.y - 5.0, 25.0 - p.y]
+                .into_iter()
+                .map(f64::abs)
+                .fold(f64::INFINITY, f64::min);
+            assert!(d < 1e-9, "{p:?}");
+        }
+        assert!((signed_area(pts) - 400.0).abs() < 1e-6);
+        // 80 px of boundary at 0.8 px spacing.
+        assert_eq!(pts.len(), 100);
+    }
+
+    #[test]
+    fn bilevel_rotated_square_has_sharp_corners() {
+        let corners = square_corners(Point::new(30.3, 29.6), 36.0, 20.0);
+        let cov = binary(60, 60, |x, y| inside_convex(&corners, Point::new(x, y)));
+        let bm = Bitmap::from_coverage(60, 60, cov, None).unwrap();
+        let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+        let pts = &cs[0].points;
+        for corner in corners {
+            let d = distance_to_polyline(corner, pts);
+            eprintln!("bilevel rotated corner {d:.3}");
+            assert!(d < 0.7, "corner {corner:?} is {d} px away");
+        }
+    }
 }

@@ -176,11 +176,12 @@ impl Bitmap {
         if !(x > -1.0 && y > -1.0 && x < w && y < h) {
             return 0.0;
         }
-        let x0 = x.floor();
-        let y0 = y.floor();
-        let fx = (x - x0) as f32;
-        let fy = (y - y0) as f32;
-        let (c, r) = (x0 as i64, y0 as i64);
+        // floor() for x, y > −1 without the libm call `f64::floor` becomes on baseline
+        // x86-64: truncation, minus one for negative non-integers.
+        let c = x as i64 - i64::from(x < 0.0);
+        let r = y as i64 - i64::from(y < 0.0);
+        let fx = (x - c as f64) as f32;
+        let fy = (y - r as f64) as f32;
         let (v00, v10, v01, v11) = if c >= 0
             && r >= 0
             && c + 1 < i64::from(self.width)
@@ -255,30 +256,37 @@ impl Bitmap {
         let pixels = self
             .coverage
             .iter()
-            .map(|&v| ((1.0 - v) * 255.0).round().clamp(0.0, 255.0) as u8)
+            .map(|&v| ((1.0 - v) * 255.0 + 0.5) as u8)
             .collect();
         GrayImage::from_raw(self.width, self.height, pixels)
             .unwrap_or_else(|| GrayImage::new(self.width, self.height))
     }
 
+    /// The smallest `f32` that counts as foreground: `v >= self.foreground_level()` exactly
+    /// when `f64::from(v) >= self.threshold`, for comparisons in `f32`.
+    fn foreground_level(&self) -> f32 {
+        let t = self.threshold as f32;
+        if f64::from(t) < self.threshold {
+            // The next f32 up (the threshold is in [0, 1], so positive and finite).
+            f32::from_bits(t.to_bits() + 1)
+        } else {
+            t
+        }
+    }
+
     fn detect_bilevel(&self) -> bool {
-        let (w, h) = (self.width as usize, self.height as usize);
-        let grey = |v: f32| v > GREY_LO && v < GREY_HI;
+        let w = self.width as usize;
+        let level = self.foreground_level();
         let (mut edge, mut grey_edge) = (0u64, 0u64);
-        let mut count_pair = |a: f32, b: f32| {
-            if self.is_foreground(a) != self.is_foreground(b) {
-                edge += 2;
-                grey_edge += u64::from(grey(a)) + u64::from(grey(b));
-            }
-        };
-        for (r, row) in self.coverage.chunks_exact(w).enumerate() {
-            for c in 0..w {
-                if c + 1 < w {
-                    count_pair(row[c], row[c + 1]);
-                }
-                if r + 1 < h {
-                    count_pair(row[c], self.coverage[(r + 1) * w + c]);
-                }
+        let mut rows = self.coverage.chunks_exact(w).peekable();
+        while let Some(row) = rows.next() {
+            let (e, g) = crossing_counts(&row[..w - 1], &row[1..], level);
+            edge += e;
+            grey_edge += g;
+            if let Some(next) = rows.peek() {
+                let (e, g) = crossing_counts(row, next, level);
+                edge += e;
+                grey_edge += g;
             }
         }
         (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
@@ -308,13 +316,50 @@ impl Bitmap {
     }
 }
 
+/// Over pixel pairs (a[i], b[i]): twice the number of pairs that cross `level` (one on
+/// each side), and how many of those pixels are grey. Written as plain sums so that it
+/// vectorises.
+fn crossing_counts(a: &[f32], b: &[f32], level: f32) -> (u64, u64) {
+    let grey = |v: f32| u32::from(v > GREY_LO) & u32::from(v < GREY_HI);
+    let (mut edge, mut grey_edge) = (0u64, 0u64);
+    // u32 partial sums cannot overflow within a chunk.
+    for (ca, cb) in a.chunks(1 << 20).zip(b.chunks(1 << 20)) {
+        let (mut e, mut g) = (0u32, 0u32);
+        for (&x, &y) in ca.iter().zip(cb) {
+            let crossing = u32::from((x >= level) != (y >= level));
+            e += crossing;
+            g += crossing * (grey(x) + grey(y));
+        }
+        edge += 2 * u64::from(e);
+        grey_edge += u64::from(g);
+    }
+    (edge, grey_edge)
+}
+
 /// Otsu's threshold of a coverage field on a 256-bin histogram, on the [0, 1] scale, clamped
 /// to [`OTSU_MIN`, `OTSU_MAX`]. Ties (an empty range of levels between the classes) resolve
 /// to the middle of the range. A uniform field gives 0.5.
 fn otsu_threshold(coverage: &[f32]) -> f64 {
+    // Four interleaved histograms, so that runs of equal values (most of an image) do not
+    // serialise on one counter. Coverage is already clamped to [0, 1].
+    // (Through i32: float to u64 conversion is much slower on x86-64.)
+    let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
+    let mut parts = [[0u32; 256]; 4];
+    let mut chunks = coverage.chunks_exact(4);
+    for c in &mut chunks {
+        parts[0][bin(c[0])] += 1;
+        parts[1][bin(c[1])] += 1;
+        parts[2][bin(c[2])] += 1;
+        parts[3][bin(c[3])] += 1;
+    }
+    for &v in chunks.remainder() {
+        parts[0][bin(v)] += 1;
+    }
     let mut hist = [0u64; 256];
-    for &v in coverage {
-        hist[(v * 255.0).round().clamp(0.0, 255.0) as usize] += 1;
+    for part in &parts {
+        for (h, &p) in hist.iter_mut().zip(part) {
+            *h += u64::from(p);
+        }
     }
     let total = coverage.len() as f64;
     let sum_all: f64 = hist
