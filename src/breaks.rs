@@ -162,9 +162,21 @@ fn corner_angles(points: &[Point], s: &[f64], total: f64, h: f64) -> Vec<f64> {
 
 /// Largest distance from the polygon's points with arc position in [from, to] (relative to
 /// point i) to the line through `a` and `b`.
-fn max_off_line(points: &[Point], s: &[f64], total: f64, i: usize, from: f64, to: f64, a: Point, b: Point) -> f64 {
+#[allow(clippy::too_many_arguments)]
+fn max_off_line(
+    points: &[Point],
+    s: &[f64],
+    total: f64,
+    i: usize,
+    from: f64,
+    to: f64,
+    a: Point,
+    b: Point,
+) -> f64 {
     let n = points.len();
-    let Some(dir) = (b - a).normalized() else { return f64::INFINITY };
+    let Some(dir) = (b - a).normalized() else {
+        return f64::INFINITY;
+    };
     let mut worst: f64 = 0.0;
     for k in 1..n {
         for j in [(i + k) % n, (i + n - k) % n] {
@@ -272,7 +284,10 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
         (out, out_corners)
     };
     let n = points.len();
-    let mut found: Vec<(usize, f64, JointKind, BreakReason)> = corner_idx.iter().map(|&i| (i, 0.0, JointKind::Corner, BreakReason::Corner)).collect();
+    let mut found: Vec<(usize, f64, JointKind, BreakReason)> = corner_idx
+        .iter()
+        .map(|&i| (i, 0.0, JointKind::Corner, BreakReason::Corner))
+        .collect();
     if n >= 3 {
         // Pass 2: smooth features on the sharpened polygon, away from corners.
         let theta = turning_angles(&points, h);
@@ -312,8 +327,16 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
                 let (a, c) = (theta[(i + n - 1) % n].abs(), theta[(i + 1) % n].abs());
                 let b = theta[i].abs();
                 let denom = a - 2.0 * b + c;
-                let off = if denom.abs() > 1e-12 { (0.5 * (a - c) / denom).clamp(-0.5, 0.5) } else { 0.0 };
-                let (idx, frac) = if off >= 0.0 { (i, off) } else { ((i + n - 1) % n, 1.0 + off) };
+                let off = if denom.abs() > 1e-12 {
+                    (0.5 * (a - c) / denom).clamp(-0.5, 0.5)
+                } else {
+                    0.0
+                };
+                let (idx, frac) = if off >= 0.0 {
+                    (i, off)
+                } else {
+                    ((i + n - 1) % n, 1.0 + off)
+                };
                 found.push((idx, frac, JointKind::Smooth, BreakReason::CurvatureExtremum));
             }
             // Inflection between i and i+1: a sign change with clear bending on both sides.

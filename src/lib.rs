@@ -116,7 +116,8 @@ impl Config {
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return bad("--tolerance", "must be a positive number of pixels");
         }
-        if !(self.corner_angle.is_finite() && self.corner_angle > 0.0 && self.corner_angle < 180.0) {
+        if !(self.corner_angle.is_finite() && self.corner_angle > 0.0 && self.corner_angle < 180.0)
+        {
             return bad("--corner-angle", "must be between 0 and 180 degrees");
         }
         if !(self.min_area.is_finite() && self.min_area >= 0.0) {
@@ -186,7 +187,10 @@ impl TraceResult {
 
     /// Largest point-to-curve distance over every segment.
     pub fn max_distance(&self) -> f64 {
-        self.contours.iter().map(FittedContour::max_distance).fold(0.0, f64::max)
+        self.contours
+            .iter()
+            .map(FittedContour::max_distance)
+            .fold(0.0, f64::max)
     }
 }
 
@@ -221,7 +225,9 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             let chain = fit::lsq::fit_contour(&find_breaks(c, &break_options), &lsq_options);
             match config.strategy {
                 Strategy::Lsq => chain,
-                Strategy::Hs => fit::paper::fit_contour(&chain, &fit::paper::PaperOptions::new(config), i),
+                Strategy::Hs => {
+                    fit::paper::fit_contour(&chain, &fit::paper::PaperOptions::new(config), i)
+                }
             }
         })
         .collect();

@@ -67,7 +67,11 @@ impl Summary {
                 counted += seg.point_count;
             }
         }
-        s.mean_distance = if counted > 0 { weighted / counted as f64 } else { 0.0 };
+        s.mean_distance = if counted > 0 {
+            weighted / counted as f64
+        } else {
+            0.0
+        };
         s
     }
 }
@@ -134,7 +138,12 @@ fn xy(p: Point) -> [f64; 2] {
     [p.x, p.y]
 }
 
-fn contour_row(index: usize, c: &FittedContour, strategy: Strategy, with_params: bool) -> ContourRow<'_> {
+fn contour_row(
+    index: usize,
+    c: &FittedContour,
+    strategy: Strategy,
+    with_params: bool,
+) -> ContourRow<'_> {
     ContourRow {
         index,
         is_hole: c.is_hole,
@@ -145,7 +154,12 @@ fn contour_row(index: usize, c: &FittedContour, strategy: Strategy, with_params:
             .iter()
             .enumerate()
             .map(|(k, s)| {
-                let (lo, hi) = s.params.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &u| (a.min(u), b.max(u)));
+                let (lo, hi) = s
+                    .params
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &u| {
+                        (a.min(u), b.max(u))
+                    });
                 SegmentRow {
                     index: k,
                     optimizer: strategy,
@@ -194,13 +208,19 @@ pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bo
                 image: &r.image,
                 summary: Summary::of(r),
                 seconds: r.seconds,
-                contours: r.contours.iter().enumerate().map(|(i, c)| contour_row(i, c, config.strategy, with_params)).collect(),
+                contours: r
+                    .contours
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| contour_row(i, c, config.strategy, with_params))
+                    .collect(),
             })
             .collect(),
     };
     // Serialising plain data with finite or infinite floats cannot fail; non-finite numbers
     // become null.
-    let mut s = serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    let mut s =
+        serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
     s.push('\n');
     s
 }
@@ -209,8 +229,33 @@ pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bo
 pub fn to_csv(config: &Config, images: &[(&str, &TraceResult)]) -> String {
     let mut w = csv::Writer::from_writer(Vec::new());
     let header = [
-        "image", "contour", "is_hole", "segment", "optimizer", "point_count", "start", "end", "c0x", "c0y", "c1x", "c1y", "c2x", "c2y", "c3x", "c3y",
-        "w1", "w2", "sum_sq", "rmse", "max_distance", "mean_distance", "start_joint", "start_joint_angle", "start_joint_beta", "evaluations", "seconds",
+        "image",
+        "contour",
+        "is_hole",
+        "segment",
+        "optimizer",
+        "point_count",
+        "start",
+        "end",
+        "c0x",
+        "c0y",
+        "c1x",
+        "c1y",
+        "c2x",
+        "c2y",
+        "c3x",
+        "c3y",
+        "w1",
+        "w2",
+        "sum_sq",
+        "rmse",
+        "max_distance",
+        "mean_distance",
+        "start_joint",
+        "start_joint_angle",
+        "start_joint_beta",
+        "evaluations",
+        "seconds",
     ];
     let mut rows: Vec<Vec<String>> = Vec::new();
     for (path, r) in images {

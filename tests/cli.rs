@@ -19,7 +19,10 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn files_in(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     v.sort();
     v
 }
@@ -39,13 +42,25 @@ fn assert_clean_failure(input: &Path, extra: &[&str], expect: &str) {
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{}: expected failure", input.display());
+    assert!(
+        !out.status.success(),
+        "{}: expected failure",
+        input.display()
+    );
     assert_eq!(out.status.code(), Some(1));
-    assert_eq!(stderr.lines().count(), 1, "one line expected, got: {stderr}");
+    assert_eq!(
+        stderr.lines().count(),
+        1,
+        "one line expected, got: {stderr}"
+    );
     assert!(stderr.starts_with("error: "), "{stderr}");
     assert!(stderr.contains(expect), "expected {expect:?} in: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert!(files_in(&dir).is_empty(), "outputs left behind: {:?}", files_in(&dir));
+    assert!(
+        files_in(&dir).is_empty(),
+        "outputs left behind: {:?}",
+        files_in(&dir)
+    );
 }
 
 #[test]
@@ -64,16 +79,28 @@ fn bad_inputs_fail_with_one_line_and_no_output() {
     assert_clean_failure(&truncated, &[], "not a readable image");
     // Empty (all background) image.
     let blank = dir.join("blank.png");
-    image::GrayImage::from_pixel(40, 30, image::Luma([255])).save(&blank).unwrap();
+    image::GrayImage::from_pixel(40, 30, image::Luma([255]))
+        .save(&blank)
+        .unwrap();
     assert_clean_failure(&blank, &[], "no shape found");
     // Zero-size image (a PGM header that declares 0 × 0 pixels).
     let zero = dir.join("zero.pgm");
     std::fs::write(&zero, b"P5\n0 0\n255\n").unwrap();
-    let out = bin().arg("trace").arg(&zero).arg("-o").arg(dir.join("outputs/z.svg")).output().unwrap();
+    let out = bin()
+        .arg("trace")
+        .arg(&zero)
+        .arg("-o")
+        .arg(dir.join("outputs/z.svg"))
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(String::from_utf8_lossy(&out.stderr).lines().count(), 1);
     // Larger than --max-pixels.
-    assert_clean_failure(&common::samples_dir().join("s.png"), &["--max-pixels", "1000"], "more than the limit");
+    assert_clean_failure(
+        &common::samples_dir().join("s.png"),
+        &["--max-pixels", "1000"],
+        "more than the limit",
+    );
     // Output in a missing folder: no work is done, nothing written anywhere.
     let out = bin()
         .arg("trace")
@@ -87,10 +114,16 @@ fn bad_inputs_fail_with_one_line_and_no_output() {
     assert!(stderr.contains("does not exist"), "{stderr}");
     assert!(!dir.join("no").exists());
     // A bad option value is refused by the parser.
-    let out = bin().args(["trace", "x.png", "--tolerance", "-1"]).output().unwrap();
+    let out = bin()
+        .args(["trace", "x.png", "--tolerance", "-1"])
+        .output()
+        .unwrap();
     assert_ne!(out.status.code(), Some(0));
     // The input is never modified.
-    assert_eq!(std::fs::read(common::samples_dir().join("s.png")).unwrap(), sample);
+    assert_eq!(
+        std::fs::read(common::samples_dir().join("s.png")).unwrap(),
+        sample
+    );
 }
 
 #[test]
@@ -98,9 +131,20 @@ fn svg_to_stdout_matches_svg_file() {
     let dir = scratch("stdout");
     let input = common::samples_dir().join("glyph_aa.png");
     let file = dir.join("a.svg");
-    let a = bin().arg("trace").arg(&input).arg("-o").arg(&file).output().unwrap();
+    let a = bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(&file)
+        .output()
+        .unwrap();
     assert!(a.status.success());
-    let b = bin().arg("trace").arg(&input).args(["-o", "-"]).output().unwrap();
+    let b = bin()
+        .arg("trace")
+        .arg(&input)
+        .args(["-o", "-"])
+        .output()
+        .unwrap();
     assert!(b.status.success());
     assert_eq!(std::fs::read(&file).unwrap(), b.stdout);
     assert!(String::from_utf8_lossy(&b.stdout).contains("viewBox=\"0 0 60 63\""));
@@ -121,19 +165,36 @@ fn batch(input: &Path, out: &Path, jobs: &str, extra: &[&str]) -> Output {
 #[test]
 fn same_seed_gives_identical_outputs_on_one_and_two_threads() {
     let dir = scratch("determinism");
-    for extra in [&[][..], &["--optimizer", "hs", "--budget", "300", "--seed", "42"][..]] {
+    for extra in [
+        &[][..],
+        &["--optimizer", "hs", "--budget", "300", "--seed", "42"][..],
+    ] {
         let one = dir.join("one");
         let two = dir.join("two");
         let _ = std::fs::remove_dir_all(&one);
         let _ = std::fs::remove_dir_all(&two);
-        assert!(batch(&common::samples_dir(), &one, "1", extra).status.success());
-        assert!(batch(&common::samples_dir(), &two, "2", extra).status.success());
+        assert!(batch(&common::samples_dir(), &one, "1", extra)
+            .status
+            .success());
+        assert!(batch(&common::samples_dir(), &two, "2", extra)
+            .status
+            .success());
         let names = files_in(&one);
         assert_eq!(names, files_in(&two));
-        assert!(names.iter().filter(|n| n.ends_with(".svg")).count() >= 7, "{names:?}");
-        assert!(names.iter().filter(|n| n.ends_with(".json")).count() >= 7, "{names:?}");
+        assert!(
+            names.iter().filter(|n| n.ends_with(".svg")).count() >= 7,
+            "{names:?}"
+        );
+        assert!(
+            names.iter().filter(|n| n.ends_with(".json")).count() >= 7,
+            "{names:?}"
+        );
         for n in names {
-            assert_eq!(std::fs::read(one.join(&n)).unwrap(), std::fs::read(two.join(&n)).unwrap(), "{n} differs ({extra:?})");
+            assert_eq!(
+                std::fs::read(one.join(&n)).unwrap(),
+                std::fs::read(two.join(&n)).unwrap(),
+                "{n} differs ({extra:?})"
+            );
         }
     }
 }
@@ -143,27 +204,54 @@ fn batch_reports_failures_and_converts_the_rest() {
     let dir = scratch("batch");
     let input = dir.join("in");
     std::fs::create_dir_all(input.join("sub")).unwrap();
-    std::fs::copy(common::samples_dir().join("glyph_aa.png"), input.join("a.png")).unwrap();
-    std::fs::copy(common::samples_dir().join("pear.png"), input.join("sub/b.png")).unwrap();
+    std::fs::copy(
+        common::samples_dir().join("glyph_aa.png"),
+        input.join("a.png"),
+    )
+    .unwrap();
+    std::fs::copy(
+        common::samples_dir().join("pear.png"),
+        input.join("sub/b.png"),
+    )
+    .unwrap();
     std::fs::write(input.join("broken.png"), b"nope").unwrap();
     let out = dir.join("out");
     let r = batch(&input, &out, "2", &["--recursive"]);
-    assert_eq!(r.status.code(), Some(1), "a failed file makes the exit status non-zero");
+    assert_eq!(
+        r.status.code(),
+        Some(1),
+        "a failed file makes the exit status non-zero"
+    );
     assert!(out.join("a.svg").exists() && out.join("a.json").exists());
     assert!(out.join("sub/b.svg").exists());
     assert!(!out.join("broken.svg").exists());
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     assert_eq!(summary.lines().count(), 4, "{summary}");
-    assert!(summary.lines().any(|l| l.contains("broken.png") && l.contains(",failed,")), "{summary}");
+    assert!(
+        summary
+            .lines()
+            .any(|l| l.contains("broken.png") && l.contains(",failed,")),
+        "{summary}"
+    );
     // Shards partition the files; --skip-existing skips what is done.
     let s1 = dir.join("s1");
     let s2 = dir.join("s2");
     batch(&input, &s1, "1", &["--recursive", "--shard", "1/2"]);
     batch(&input, &s2, "1", &["--recursive", "--shard", "2/2"]);
-    let count = |d: &Path| std::fs::read_to_string(d.join("summary.csv")).unwrap().lines().count() - 1;
+    let count = |d: &Path| {
+        std::fs::read_to_string(d.join("summary.csv"))
+            .unwrap()
+            .lines()
+            .count()
+            - 1
+    };
     assert_eq!(count(&s1) + count(&s2), 3);
     let again = batch(&input, &out, "1", &["--recursive", "--skip-existing"]);
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
-    assert_eq!(summary.lines().filter(|l| l.contains(",skipped,")).count(), 2, "{summary}");
+    assert_eq!(
+        summary.lines().filter(|l| l.contains(",skipped,")).count(),
+        2,
+        "{summary}"
+    );
     assert_eq!(again.status.code(), Some(1));
 }

@@ -8,18 +8,32 @@ use outlinefit::{trace_file, Config, JointKind, Strategy};
 
 fn check_sample(config: &Config, min_iou: f64) {
     for path in common::sample_paths() {
-        let result = trace_file(&path, config).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let result =
+            trace_file(&path, config).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         assert!(result.segment_count() > 0, "{name}: no segments");
         for c in &result.contours {
             for j in c.joints.iter().filter(|j| j.kind == JointKind::Smooth) {
-                assert!(j.angle < 1e-9, "{name}: smooth joint at {:?} has tangent angle {}", j.position, j.angle);
-                assert!(j.beta > 0.0 && j.beta.is_finite(), "{name}: beta {}", j.beta);
+                assert!(
+                    j.angle < 1e-9,
+                    "{name}: smooth joint at {:?} has tangent angle {}",
+                    j.position,
+                    j.angle
+                );
+                assert!(
+                    j.beta > 0.0 && j.beta.is_finite(),
+                    "{name}: beta {}",
+                    j.beta
+                );
             }
             // The chain is closed: each segment ends exactly where the next starts.
             let m = c.segments.len();
             for k in 0..m {
-                assert_eq!(c.segments[k].curve.points[3], c.segments[(k + 1) % m].curve.points[0], "{name}");
+                assert_eq!(
+                    c.segments[k].curve.points[3],
+                    c.segments[(k + 1) % m].curve.points[0],
+                    "{name}"
+                );
             }
         }
         let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
@@ -42,12 +56,20 @@ fn check_sample(config: &Config, min_iou: f64) {
 
 #[test]
 fn lsq_outlines_render_back_to_the_input_and_are_g1() {
-    let config = Config { timings: false, ..Config::default() };
+    let config = Config {
+        timings: false,
+        ..Config::default()
+    };
     check_sample(&config, 0.98);
     // Every data point lies within the tolerance of its curve.
     for path in common::sample_paths() {
         let r = trace_file(&path, &config).unwrap();
-        assert!(r.max_distance() <= config.tolerance * 1.05, "{}: max distance {}", path.display(), r.max_distance());
+        assert!(
+            r.max_distance() <= config.tolerance * 1.05,
+            "{}: max distance {}",
+            path.display(),
+            r.max_distance()
+        );
     }
 }
 
@@ -55,6 +77,11 @@ fn lsq_outlines_render_back_to_the_input_and_are_g1() {
 fn hs_outlines_are_g1_at_every_smooth_joint() {
     // The paper's scheme on the same segmentation; its fit is looser (the search box of
     // Eq. 9 can exclude the optimum), so only continuity and a coarse shape check here.
-    let config = Config { strategy: Strategy::Hs, budget: 1000, timings: false, ..Config::default() };
+    let config = Config {
+        strategy: Strategy::Hs,
+        budget: 1000,
+        timings: false,
+        ..Config::default()
+    };
     check_sample(&config, 0.9);
 }

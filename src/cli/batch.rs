@@ -13,7 +13,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// File extensions (lower case) that batch picks up.
-const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "bmp", "gif", "tif", "tiff", "webp", "pbm", "pgm", "ppm", "pnm"];
+const IMAGE_EXTENSIONS: &[&str] = &[
+    "png", "jpg", "jpeg", "bmp", "gif", "tif", "tiff", "webp", "pbm", "pgm", "ppm", "pnm",
+];
 
 /// Arguments of `batch`.
 #[derive(Args, Debug)]
@@ -44,9 +46,17 @@ pub(crate) struct BatchArgs {
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
-    let (k, n) = s.split_once('/').ok_or_else(|| format!("expected K/N, got {s:?}"))?;
-    let k: usize = k.trim().parse().map_err(|_| format!("bad shard index in {s:?}"))?;
-    let n: usize = n.trim().parse().map_err(|_| format!("bad shard count in {s:?}"))?;
+    let (k, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("expected K/N, got {s:?}"))?;
+    let k: usize = k
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad shard index in {s:?}"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad shard count in {s:?}"))?;
     if n == 0 || k == 0 || k > n {
         return Err(format!("shard must satisfy 1 ≤ K ≤ N, got {k}/{n}"));
     }
@@ -77,16 +87,28 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
         bail!("{} is not a folder", args.input.display());
     }
     let mut files = Vec::new();
-    collect_images(&args.input, args.recursive, &mut files).with_context(|| format!("cannot list {}", args.input.display()))?;
+    collect_images(&args.input, args.recursive, &mut files)
+        .with_context(|| format!("cannot list {}", args.input.display()))?;
     files.sort();
     let mut jobs = assign_stems(&args.input, files);
     if let Some((k, n)) = args.shard {
-        jobs = jobs.into_iter().enumerate().filter(|(i, _)| i % n == k - 1).map(|(_, j)| j).collect();
+        jobs = jobs
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| i % n == k - 1)
+            .map(|(_, j)| j)
+            .collect();
     }
-    std::fs::create_dir_all(&args.output).with_context(|| format!("cannot create {}", args.output.display()))?;
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.jobs.unwrap_or(0)).build()?;
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs.unwrap_or(0))
+        .build()?;
     let bar = ProgressBar::new(jobs.len() as u64);
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed_precise} eta {eta} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed_precise} eta {eta} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     let rows: Vec<Row> = pool.install(|| {
         jobs.par_iter()
             .map(|job| {
@@ -104,7 +126,10 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     write_summary(&args.output.join("summary.csv"), &rows)?;
     let done = rows.iter().filter(|r| r.status == "ok").count();
     let skipped = rows.iter().filter(|r| r.status == "skipped").count();
-    eprintln!("{done} traced, {skipped} skipped, {failed} failed; summary in {}", args.output.join("summary.csv").display());
+    eprintln!(
+        "{done} traced, {skipped} skipped, {failed} failed; summary in {}",
+        args.output.join("summary.csv").display()
+    );
     Ok(if failed > 0 { 1 } else { 0 })
 }
 
@@ -139,7 +164,11 @@ fn assign_stems(root: &Path, files: Vec<PathBuf>) -> Vec<Job> {
         .map(|input| {
             let r = rel(&input);
             let plain = r.with_extension("");
-            let stem = if count.get(&plain).copied().unwrap_or(0) > 1 { r } else { plain };
+            let stem = if count.get(&plain).copied().unwrap_or(0) > 1 {
+                r
+            } else {
+                plain
+            };
             Job { input, stem }
         })
         .collect()
@@ -155,7 +184,15 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
     let file = job.input.display().to_string();
     let base = args.output.join(&job.stem);
     let svg_path = with_suffix(&base, ".svg");
-    let mut row = Row { file, status: "ok", message: String::new(), segments: 0, sum_sq: 0.0, max_distance: 0.0, seconds: 0.0 };
+    let mut row = Row {
+        file,
+        status: "ok",
+        message: String::new(),
+        segments: 0,
+        sum_sq: 0.0,
+        max_distance: 0.0,
+        seconds: 0.0,
+    };
     if args.skip_existing && svg_path.exists() {
         row.status = "skipped";
         return row;
@@ -163,14 +200,18 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
     let started = Instant::now();
     let outcome = (|| -> anyhow::Result<TraceResult> {
         if let Some(parent) = svg_path.parent() {
-            std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create {}", parent.display()))?;
         }
         let result = trace_file(&job.input, config)?;
         if !args.svg_only {
             let json = report::to_json(config, &[(&row.file, &result)], false);
             write_atomic(&with_suffix(&base, ".json"), json.as_bytes())?;
         }
-        write_atomic(&svg_path, to_svg(&result, &SvgOptions::for_tolerance(config.tolerance)).as_bytes())?;
+        write_atomic(
+            &svg_path,
+            to_svg(&result, &SvgOptions::for_tolerance(config.tolerance)).as_bytes(),
+        )?;
         Ok(result)
     })();
     match outcome {
@@ -178,7 +219,11 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
             row.segments = result.segment_count();
             row.sum_sq = result.sum_sq();
             row.max_distance = result.max_distance();
-            row.seconds = if config.timings { started.elapsed().as_secs_f64() } else { 0.0 };
+            row.seconds = if config.timings {
+                started.elapsed().as_secs_f64()
+            } else {
+                0.0
+            };
         }
         Err(e) => {
             row.status = "failed";
@@ -200,7 +245,15 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
 
 fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["file", "status", "segments", "sum_sq", "max_distance", "seconds", "error"])?;
+    w.write_record([
+        "file",
+        "status",
+        "segments",
+        "sum_sq",
+        "max_distance",
+        "seconds",
+        "error",
+    ])?;
     for r in rows {
         w.write_record([
             r.file.clone(),
@@ -212,7 +265,9 @@ fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
             r.message.clone(),
         ])?;
     }
-    let bytes = w.into_inner().map_err(|e| anyhow::anyhow!("cannot build summary: {e}"))?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("cannot build summary: {e}"))?;
     write_atomic(path, &bytes)?;
     Ok(())
 }

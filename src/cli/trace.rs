@@ -39,13 +39,21 @@ pub(crate) struct TraceArgs {
 pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     let config = args.fit.config();
     config.validate()?;
-    let svg_path = args.output.clone().unwrap_or_else(|| default_svg_path(&args.input));
+    let svg_path = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_svg_path(&args.input));
     // Refuse to overwrite the input, and check every output folder before any work.
-    let outputs: Vec<&Path> = [Some(svg_path.as_path()), args.report.as_deref(), args.csv.as_deref(), args.overlay.as_deref()]
-        .into_iter()
-        .flatten()
-        .filter(|p| !is_stdout(p))
-        .collect();
+    let outputs: Vec<&Path> = [
+        Some(svg_path.as_path()),
+        args.report.as_deref(),
+        args.csv.as_deref(),
+        args.overlay.as_deref(),
+    ]
+    .into_iter()
+    .flatten()
+    .filter(|p| !is_stdout(p))
+    .collect();
     for p in &outputs {
         if same_file(p, &args.input) {
             bail!("output {} would overwrite the input", p.display());
@@ -64,14 +72,20 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     let name = args.input.display().to_string();
     // Reports first, the SVG last: a finished SVG means everything else is there too.
     if let Some(p) = &args.report {
-        write_atomic(p, report::to_json(&config, &[(&name, &result)], args.params).as_bytes())?;
+        write_atomic(
+            p,
+            report::to_json(&config, &[(&name, &result)], args.params).as_bytes(),
+        )?;
     }
     if let Some(p) = &args.csv {
         write_atomic(p, report::to_csv(&config, &[(&name, &result)]).as_bytes())?;
     }
     if let Some(p) = &args.overlay {
         let preview = bitmap.preview();
-        write_atomic(p, to_overlay_svg(&result, Some(&preview), &OverlayOptions::default()).as_bytes())?;
+        write_atomic(
+            p,
+            to_overlay_svg(&result, Some(&preview), &OverlayOptions::default()).as_bytes(),
+        )?;
     }
     if is_stdout(&svg_path) {
         let mut out = std::io::stdout().lock();

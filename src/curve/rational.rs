@@ -20,7 +20,12 @@ pub fn bernstein(u: f64) -> [f64; 4] {
 #[inline]
 fn bernstein_d1(u: f64) -> [f64; 4] {
     let v = 1.0 - u;
-    [-3.0 * v * v, 3.0 * v * (1.0 - 3.0 * u), 3.0 * u * (2.0 - 3.0 * u), 3.0 * u * u]
+    [
+        -3.0 * v * v,
+        3.0 * v * (1.0 - 3.0 * u),
+        3.0 * u * (2.0 - 3.0 * u),
+        3.0 * u * u,
+    ]
 }
 
 /// Second derivatives of the cubic Bernstein basis at `u`.
@@ -93,7 +98,11 @@ impl RationalCubic {
         let p = n[0] / d[0];
         let p1 = (n[1] - p * d[1]) / d[0];
         let p2 = (n[2] - p1 * (2.0 * d[1]) - p * d[2]) / d[0];
-        CurveJet { point: p, d1: p1, d2: p2 }
+        CurveJet {
+            point: p,
+            d1: p1,
+            d2: p2,
+        }
     }
 
     /// P'(0) = 3 w1 (C1 − C0).
@@ -173,7 +182,11 @@ impl RationalCubic {
             let r = jet.point - q;
             let h = jet.d1.length_squared() + r.dot(jet.d2);
             let g = r.dot(jet.d1);
-            let step = if h > 1e-12 { -g / h } else { -g / jet.d1.length_squared().max(1e-12) };
+            let step = if h > 1e-12 {
+                -g / h
+            } else {
+                -g / jet.d1.length_squared().max(1e-12)
+            };
             let un = (u + step).clamp(0.0, 1.0);
             let jn = self.jet(un);
             let dn = (jn.point - q).length_squared();

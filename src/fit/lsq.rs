@@ -46,7 +46,10 @@ impl LsqOptions {
             // Parameter correction without the orthogonal-distance polish: the polish
             // lowers Eq. 4 a little but costs most of the time, and the tolerance is met
             // without it.
-            settings: FitSettings { polish_iterations: 0, ..FitSettings::default() },
+            settings: FitSettings {
+                polish_iterations: 0,
+                ..FitSettings::default()
+            },
             tangent_window: 3.0,
             timings: config.timings,
             export_bound: SvgOptions::for_tolerance(config.tolerance).bound,
@@ -181,7 +184,10 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
     }
     let mut buf = Vec::new();
     let search = opts.settings;
-    let polynomial = FitSettings { polish_iterations: opts.settings.polish_iterations, ..FitSettings::polynomial() };
+    let polynomial = FitSettings {
+        polish_iterations: opts.settings.polish_iterations,
+        ..FitSettings::polynomial()
+    };
     let fit = |a: &JointSpec, b: &JointSpec, buf: &mut Vec<Point>| -> Piece {
         cyclic_run(points, a.index, b.index, buf);
         let start = a.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
@@ -199,15 +205,27 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
         // Weights bend a cubic only so far: past a few tolerances the weight search is
         // not worth its cost, and the segment will be split anyway.
         if poly_residual <= opts.tolerance || poly_residual > 4.0 * opts.tolerance {
-            return Piece { solution: poly, max_residual: poly_residual, pieces: 1 };
+            return Piece {
+                solution: poly,
+                max_residual: poly_residual,
+                pieces: 1,
+            };
         }
         let solution = fit_segment(buf, start, end, &search);
         let max_residual = residual(&solution);
         if max_residual >= poly_residual {
-            return Piece { solution: poly, max_residual: poly_residual, pieces: 1 };
+            return Piece {
+                solution: poly,
+                max_residual: poly_residual,
+                pieces: 1,
+            };
         }
         let pieces = approximate_with_cubics(&solution.curve, opts.export_bound).len();
-        Piece { solution, max_residual, pieces }
+        Piece {
+            solution,
+            max_residual,
+            pieces,
+        }
     };
 
     // Initial fits and splitting.
@@ -267,7 +285,9 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
                 }
                 let candidate = fit(&joints[prev], &joints[next], &mut buf);
                 // Accept when within tolerance and not more SVG pieces than before.
-                if candidate.max_residual > opts.tolerance || candidate.pieces > pieces[prev].pieces + pieces[j].pieces {
+                if candidate.max_residual > opts.tolerance
+                    || candidate.pieces > pieces[prev].pieces + pieces[j].pieces
+                {
                     failed.insert(key);
                 } else {
                     // Segment `prev` runs joints[prev] → joints[j]; it absorbs segment j.

@@ -99,7 +99,10 @@ pub struct FittedContour {
 impl FittedContour {
     /// Largest point-to-curve distance over all segments.
     pub fn max_distance(&self) -> f64 {
-        self.segments.iter().map(|s| s.error.max_distance).fold(0.0, f64::max)
+        self.segments
+            .iter()
+            .map(|s| s.error.max_distance)
+            .fold(0.0, f64::max)
     }
 
     /// Sum of Eq. 4 errors over all segments.

@@ -77,7 +77,14 @@ pub struct SegmentProblem<'a> {
 }
 
 impl<'a> SegmentProblem<'a> {
-    fn new(points: &'a [Point], params: &[f64], start: Side, end: Side, max_weight: f64, box_scale: f64) -> Self {
+    fn new(
+        points: &'a [Point],
+        params: &[f64],
+        start: Side,
+        end: Side,
+        max_weight: f64,
+        box_scale: f64,
+    ) -> Self {
         let (mut lo, mut hi) = (points[0], points[0]);
         for p in points {
             lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
@@ -170,7 +177,8 @@ impl Problem for SegmentProblem<'_> {
 
 /// Per-segment seed: a SplitMix64 mix of the base seed, contour and segment index.
 fn segment_seed(seed: u64, contour: usize, segment: usize) -> u64 {
-    let mut z = seed ^ ((contour as u64) << 32 | segment as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    let mut z =
+        seed ^ ((contour as u64) << 32 | segment as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
@@ -178,7 +186,11 @@ fn segment_seed(seed: u64, contour: usize, segment: usize) -> u64 {
 
 /// Refits every segment of `base` (whose segmentation and joint kinds are kept) with the
 /// paper's scheme. `contour_index` feeds the per-segment seeds.
-pub fn fit_contour(base: &FittedContour, opts: &PaperOptions, contour_index: usize) -> FittedContour {
+pub fn fit_contour(
+    base: &FittedContour,
+    opts: &PaperOptions,
+    contour_index: usize,
+) -> FittedContour {
     let m = base.segments.len();
     if m == 0 {
         return base.clone();
@@ -218,7 +230,8 @@ pub fn fit_contour(base: &FittedContour, opts: &PaperOptions, contour_index: usi
                 _ => Side::Free,
             };
             let max_weight = if g == 0 { 2.0 } else { 2.5 };
-            let problem = SegmentProblem::new(&run, &params, start, end, max_weight, opts.box_scale);
+            let problem =
+                SegmentProblem::new(&run, &params, start, end, max_weight, opts.box_scale);
             let mut rng = SeededRng::seed_from_u64(segment_seed(opts.seed, contour_index, k));
             let outcome = opts.hs.minimize(&problem, opts.budget, &mut rng, false);
             let curve = problem.curve(&outcome.best);
@@ -232,13 +245,25 @@ pub fn fit_contour(base: &FittedContour, opts: &PaperOptions, contour_index: usi
                 arc_range: seg.arc_range,
                 error,
                 evaluations: outcome.evaluations,
-                seconds: if opts.timings { started.elapsed().as_secs_f64() } else { 0.0 },
+                seconds: if opts.timings {
+                    started.elapsed().as_secs_f64()
+                } else {
+                    0.0
+                },
                 on_search_boundary: Some(problem.on_boundary(&outcome.best)),
             });
         }
     }
-    let segments: Vec<FittedSegment> = fitted.into_iter().zip(&base.segments).map(|(f, b)| f.unwrap_or_else(|| b.clone())).collect();
-    let joints = joint_report(&segments, base.joints.iter().map(|j| (j.index, j.kind)), points);
+    let segments: Vec<FittedSegment> = fitted
+        .into_iter()
+        .zip(&base.segments)
+        .map(|(f, b)| f.unwrap_or_else(|| b.clone()))
+        .collect();
+    let joints = joint_report(
+        &segments,
+        base.joints.iter().map(|j| (j.index, j.kind)),
+        points,
+    );
     FittedContour {
         points: points.clone(),
         is_hole: base.is_hole,
@@ -269,14 +294,36 @@ mod tests {
                 Point::new(50.0 + r * a.cos(), 50.0 + r * a.sin())
             })
             .collect();
-        let seg = find_breaks(&Contour { points: pts, is_hole: false, parent: None }, &BreakOptions::for_image(50.0, 100, 100));
-        lsq_fit(&seg, &LsqOptions { tolerance: 0.3, settings: FitSettings::default(), tangent_window: 3.0, timings: false, export_bound: 0.02 })
+        let seg = find_breaks(
+            &Contour {
+                points: pts,
+                is_hole: false,
+                parent: None,
+            },
+            &BreakOptions::for_image(50.0, 100, 100),
+        );
+        lsq_fit(
+            &seg,
+            &LsqOptions {
+                tolerance: 0.3,
+                settings: FitSettings::default(),
+                tangent_window: 3.0,
+                timings: false,
+                export_bound: 0.02,
+            },
+        )
     }
 
     #[test]
     fn every_smooth_joint_is_g1_and_runs_are_reproducible() {
         let base = blob();
-        let opts = PaperOptions { budget: 3000, seed: 5, hs: HarmonySearch::default(), timings: false, box_scale: 1.0 };
+        let opts = PaperOptions {
+            budget: 3000,
+            seed: 5,
+            hs: HarmonySearch::default(),
+            timings: false,
+            box_scale: 1.0,
+        };
         let a = fit_contour(&base, &opts, 0);
         for j in &a.joints {
             if j.kind == JointKind::Smooth {
@@ -289,13 +336,36 @@ mod tests {
         }
         // Free segments (even indices) cannot beat the unconstrained least-squares optimum
         // at the same parameters, and a 10× budget does not do worse overall.
-        for (k, s) in a.segments.iter().enumerate().filter(|(k, _)| k % 2 == 0 && *k + 1 < a.segments.len()) {
+        for (k, s) in a
+            .segments
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| k % 2 == 0 && *k + 1 < a.segments.len())
+        {
             let run = run_of(&base, k);
-            let (_, optimum) = optimum_at_fixed_params(&run, &s.params, EndCondition::Free, EndCondition::Free);
-            assert!(s.error.sum_sq >= optimum * (1.0 - 1e-9), "segment {k}: {} < {}", s.error.sum_sq, optimum);
+            let (_, optimum) =
+                optimum_at_fixed_params(&run, &s.params, EndCondition::Free, EndCondition::Free);
+            assert!(
+                s.error.sum_sq >= optimum * (1.0 - 1e-9),
+                "segment {k}: {} < {}",
+                s.error.sum_sq,
+                optimum
+            );
         }
-        let more = fit_contour(&base, &PaperOptions { budget: 30_000, ..opts }, 0);
-        assert!(more.sum_sq() <= a.sum_sq(), "{} > {}", more.sum_sq(), a.sum_sq());
+        let more = fit_contour(
+            &base,
+            &PaperOptions {
+                budget: 30_000,
+                ..opts
+            },
+            0,
+        );
+        assert!(
+            more.sum_sq() <= a.sum_sq(),
+            "{} > {}",
+            more.sum_sq(),
+            a.sum_sq()
+        );
     }
 
     fn run_of(c: &FittedContour, k: usize) -> Vec<Point> {
@@ -311,12 +381,18 @@ mod tests {
 
     #[test]
     fn objective_matches_eq4_of_the_curve() {
-        let pts: Vec<Point> = (0..20).map(|i| Point::new(i as f64, (i as f64 * 0.3).sin() * 4.0)).collect();
+        let pts: Vec<Point> = (0..20)
+            .map(|i| Point::new(i as f64, (i as f64 * 0.3).sin() * 4.0))
+            .collect();
         let params = centripetal_parameters(&pts);
         let p = SegmentProblem::new(&pts, &params, Side::Free, Side::Free, 2.0, 1.0);
         let x = [3.0, 2.0, 12.0, -1.0, 0.7, 1.4];
         let c = p.curve(&x);
-        let e: f64 = pts.iter().zip(&params).map(|(q, &u)| (c.eval(u) - *q).length_squared()).sum();
+        let e: f64 = pts
+            .iter()
+            .zip(&params)
+            .map(|(q, &u)| (c.eval(u) - *q).length_squared())
+            .sum();
         assert!((p.evaluate(&x) - e).abs() < 1e-9 * e.max(1.0));
     }
 }

@@ -292,7 +292,7 @@ impl<'a> LinearModel<'a> {
                 if fixed[idx].is_none() {
                     let v = z[idx];
                     let clamped = v.clamp(self.len_bounds.0, self.len_bounds.1);
-                    if !(v == clamped) {
+                    if v != clamped {
                         fixed[idx] = Some(clamped);
                         changed = true;
                     }
@@ -578,9 +578,17 @@ pub fn fit_segment(
 /// search (to a step of 1e-4 in log-space), control points solved exactly for each. This is
 /// the reference a metaheuristic searching the same space is compared with. Returns the
 /// curve and its Eq. 4 error.
-pub fn optimum_at_fixed_params(points: &[Point], params: &[f64], start: EndCondition, end: EndCondition) -> (RationalCubic, f64) {
+pub fn optimum_at_fixed_params(
+    points: &[Point],
+    params: &[f64],
+    start: EndCondition,
+    end: EndCondition,
+) -> (RationalCubic, f64) {
     if points.len() < 3 {
-        return (straight_segment(points[0], points[points.len() - 1], start, end), 0.0);
+        return (
+            straight_segment(points[0], points[points.len() - 1], start, end),
+            0.0,
+        );
     }
     let model = LinearModel::new(points, params, start, end);
     let (starts, _) = grid_starts(&model, WEIGHT_RANGE, 3);
@@ -795,7 +803,7 @@ fn solve6(a: &[[f64; 6]; 6], b: &[f64; 6], n: usize) -> Option<[f64; 6]> {
         }
         m.swap(col, piv);
         let p = m[col][col];
-        if !(p.abs() > 1e-300) {
+        if p.is_nan() || p.abs() <= 1e-300 {
             return None;
         }
         for row in col + 1..n {
@@ -937,5 +945,45 @@ mod tests {
         assert!(e < 1e-20);
         assert!(c.points[1].distance(truth.points[1]) < 1e-9);
         assert!(c.points[2].distance(truth.points[2]) < 1e-9);
+    }
+}
+
+#[cfg(test)]
+mod quadratic_form_tests {
+    use super::*;
+
+    #[test]
+    fn one_pass_error_matches_direct_sum() {
+        let pts: Vec<Point> = (0..40)
+            .map(|i| {
+                Point::new(
+                    i as f64,
+                    (i as f64 * 0.2).sin() * 6.0 + 0.01 * (i * i) as f64,
+                )
+            })
+            .collect();
+        let params = centripetal_parameters(&pts);
+        for (start, end) in [
+            (EndCondition::Free, EndCondition::Free),
+            (
+                EndCondition::Tangent(Point::new(1.0, 0.0)),
+                EndCondition::Tangent(Point::new(0.6, 0.8)),
+            ),
+            // A tangent pointing backwards forces the length bound to be active.
+            (
+                EndCondition::Tangent(Point::new(-1.0, 0.0)),
+                EndCondition::Free,
+            ),
+        ] {
+            let model = LinearModel::new(&pts, &params, start, end);
+            for w in [[1.0, 1.0], [0.3, 2.2], [2.5, 0.01]] {
+                let (z, e) = model.solve(w);
+                let direct = model.error(&z, w);
+                assert!(
+                    (e - direct).abs() <= 1e-9 * direct.max(1.0),
+                    "{e} vs {direct}"
+                );
+            }
+        }
     }
 }

@@ -29,7 +29,12 @@ pub struct HarmonySearch {
 
 impl Default for HarmonySearch {
     fn default() -> Self {
-        HarmonySearch { hms: 5, hmcr: 0.9, par: 0.3, bw: 0.03 }
+        HarmonySearch {
+            hms: 5,
+            hmcr: 0.9,
+            par: 0.3,
+            bw: 0.03,
+        }
     }
 }
 
@@ -38,7 +43,13 @@ impl Optimizer for HarmonySearch {
         "hs"
     }
 
-    fn minimize(&self, problem: &dyn Problem, budget: u64, rng: &mut SeededRng, record_history: bool) -> Outcome {
+    fn minimize(
+        &self,
+        problem: &dyn Problem,
+        budget: u64,
+        rng: &mut SeededRng,
+        record_history: bool,
+    ) -> Outcome {
         let dim = problem.dim();
         let hms = self.hms.max(1);
         let bounds: Vec<(f64, f64)> = (0..dim).map(|i| problem.bounds(i)).collect();
@@ -51,7 +62,13 @@ impl Optimizer for HarmonySearch {
                 history.push(best_so_far);
             }
         };
-        let uniform = |rng: &mut SeededRng, (lo, hi): (f64, f64)| if hi > lo { rng.random_range(lo..=hi) } else { lo };
+        let uniform = |rng: &mut SeededRng, (lo, hi): (f64, f64)| {
+            if hi > lo {
+                rng.random_range(lo..=hi)
+            } else {
+                lo
+            }
+        };
         // Harmony memory: rows of `dim` values, with their objective values.
         let mut memory: Vec<f64> = Vec::with_capacity(hms * dim);
         let mut values: Vec<f64> = Vec::with_capacity(hms);
@@ -87,13 +104,17 @@ impl Optimizer for HarmonySearch {
             let v = problem.evaluate(&candidate);
             evaluations += 1;
             record(v, &mut history);
-            let worst = (0..rows).max_by(|&a, &b| values[a].total_cmp(&values[b])).unwrap_or(0);
+            let worst = (0..rows)
+                .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+                .unwrap_or(0);
             if v < values[worst] {
                 values[worst] = v;
                 memory[worst * dim..(worst + 1) * dim].copy_from_slice(&candidate);
             }
         }
-        let best = (0..rows).min_by(|&a, &b| values[a].total_cmp(&values[b])).unwrap_or(0);
+        let best = (0..rows)
+            .min_by(|&a, &b| values[a].total_cmp(&values[b]))
+            .unwrap_or(0);
         Outcome {
             best: memory[best * dim..(best + 1) * dim].to_vec(),
             value: values.get(best).copied().unwrap_or(f64::INFINITY),
@@ -143,7 +164,10 @@ mod tests {
             }
             fn evaluate(&self, x: &[f64]) -> f64 {
                 for (i, v) in x.iter().enumerate() {
-                    assert!(*v >= i as f64 && *v <= i as f64 + 1.0, "out of bounds: {x:?}");
+                    assert!(
+                        *v >= i as f64 && *v <= i as f64 + 1.0,
+                        "out of bounds: {x:?}"
+                    );
                 }
                 -x.iter().sum::<f64>()
             }

@@ -45,7 +45,13 @@ pub trait Optimizer {
     fn name(&self) -> &'static str;
     /// Minimises `problem` with at most `budget` objective evaluations. With
     /// `record_history` the outcome lists the best value after every evaluation.
-    fn minimize(&self, problem: &dyn Problem, budget: u64, rng: &mut SeededRng, record_history: bool) -> Outcome;
+    fn minimize(
+        &self,
+        problem: &dyn Problem,
+        budget: u64,
+        rng: &mut SeededRng,
+        record_history: bool,
+    ) -> Outcome;
 }
 
 /// Standard test functions, for checking optimizers before trusting them on curves.
@@ -77,7 +83,9 @@ pub(crate) mod testfns {
             (-2.0, 2.0)
         }
         fn evaluate(&self, x: &[f64]) -> f64 {
-            x.windows(2).map(|w| 100.0 * (w[1] - w[0] * w[0]).powi(2) + (1.0 - w[0]).powi(2)).sum()
+            x.windows(2)
+                .map(|w| 100.0 * (w[1] - w[0] * w[0]).powi(2) + (1.0 - w[0]).powi(2))
+                .sum()
         }
     }
 
@@ -91,7 +99,10 @@ pub(crate) mod testfns {
             (-5.12, 5.12)
         }
         fn evaluate(&self, x: &[f64]) -> f64 {
-            10.0 * x.len() as f64 + x.iter().map(|v| v * v - 10.0 * (std::f64::consts::TAU * v).cos()).sum::<f64>()
+            10.0 * x.len() as f64
+                + x.iter()
+                    .map(|v| v * v - 10.0 * (std::f64::consts::TAU * v).cos())
+                    .sum::<f64>()
         }
     }
 }
