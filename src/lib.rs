@@ -70,7 +70,7 @@ pub struct Config {
     /// A turning angle above this (degrees) makes a corner (G0 joint). Default: 50.
     pub corner_angle: f64,
     /// Largest allowed distance (px) from a data point to its fitted curve, for `lsq`.
-    /// Default: 0.4.
+    /// Default: 0.3.
     pub tolerance: f64,
     /// The fitting strategy. Default: `lsq`.
     pub strategy: Strategy,
@@ -94,7 +94,7 @@ impl Default for Config {
             max_pixels: 50_000_000,
             min_area: 2.0,
             corner_angle: 50.0,
-            tolerance: 0.4,
+            tolerance: 0.3,
             strategy: Strategy::Lsq,
             budget: 5000,
             search_box_scale: 1.0,

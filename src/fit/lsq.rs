@@ -228,6 +228,10 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
         }
     };
 
+    // Runs (between two joint indices) known not to fit within tolerance: a split
+    // records the run it split, so merging cannot try it again.
+    let mut failed: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
+
     // Initial fits and splitting.
     let mut pieces: Vec<Piece> = (0..joints.len())
         .map(|k| fit(&joints[k], &joints[(k + 1) % joints.len()], &mut buf))
@@ -256,6 +260,7 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
                 kind: JointKind::Smooth,
                 tangent: Some(estimate_tangent(points, index, opts.tangent_window)),
             };
+            failed.insert((a.index, b.index));
             joints.insert(k + 1, mid);
             let left = fit(&a, &mid, &mut buf);
             let right = fit(&mid, &b, &mut buf);
@@ -269,7 +274,6 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
 
     // Merging across smooth joints while within tolerance. A failed merge of the run
     // between two given joints is remembered: it would fail again.
-    let mut failed: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
     loop {
         let mut merged_any = false;
         let mut j = 0;
