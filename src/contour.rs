@@ -16,8 +16,9 @@
 //!    would put the edge of a 0/1 image.
 //! 3. **Edge placement.**
 //!    * *Grey levels* (`!bitmap.is_bilevel()`): every crack midpoint m is moved along the
-//!      outward normal n (from the Sobel gradient of the coverage, or the crack's own normal
-//!      where the gradient disagrees) to the edge, found by **coverage integration**: for an
+//!      outward normal n (down the coverage gradient of the 3×2 pixels around the crack, or
+//!      the crack's own normal where that gradient is flat or points back into the
+//!      foreground) to the edge, found by **coverage integration**: for an
 //!      area-coverage image (what font rasterisers and resvg produce), along the line
 //!      m + s·n the coverage falls from 1 to 0 and the edge is at
 //!      s = −h + ∫₋ₕʰ f(s) ds, exactly for a straight box-filtered edge, whatever the
@@ -27,36 +28,44 @@
 //!      threshold crossing of the interpolated coverage, which is biased by up to ~0.1 px on
 //!      curved and oblique edges. The integral assumes interior coverage 1 and background
 //!      0; images whose ink and paper are not pure shift the edge by about
-//!      h × (impurity), e.g. 0.05 px for 2.5 % grey paper.
+//!      h × (impurity), e.g. 0.05 px for 2.5 % grey paper. On a curved edge the integral is
+//!      biased towards the centre of curvature by v/(2R) (v = 1/4 px², the box filter plus
+//!      bilinear interpolation; 0.01 px at R = 12), which is corrected from the local
+//!      curvature of the refined outline.
 //!      Anti-aliasing also rounds corners off (by up to ~0.6 px for a right angle):
 //!      where the refined outline turns sharply and is straight on both sides beyond the
 //!      rounded part, the rounded points are replaced by the intersection of the two side
 //!      lines.
 //!    * *Bilevel images*: refinement has nothing to work with and the pixel staircase
-//!      must not survive (it would be fitted as many tiny corners). Starting from the crack
+//!      must not survive (it would be fitted as many tiny corners). From the crack
 //!      midpoints:
-//!      - *corners* are local maxima of the angle between the chords to the points three
-//!        cracks back and ahead above 55° (digital straight lines stay below about 20°).
-//!        Each is placed at the intersection of lines fitted to its two sides and kept
-//!        only if that corner is *consistent with the pixels*: foreground pixel centres
-//!        around it inside the corner's wedge, background centres outside. Corners hold
-//!        their place while everything else is smoothed. Loops under 40 cracks (shapes
-//!        under ~10 px) get none: there a digitised disk and a polygon look alike.
+//!      - *corner candidates* are local maxima of the angle between the chords to the
+//!        points 3 cracks back and ahead, above 55° (digital straight lines stay below
+//!        ~20°), plus, where those find nothing, of the chords 7 cracks long above 70°
+//!        (corners that digitisation cut off with a short chamfer). Loops under 48 cracks
+//!        (shapes under ~12 px) get none: there a digitised disk and a polygon look alike;
 //!      - a binomial pre-smoothing (four passes of [1, 2, 1]/4) gives first normals and
 //!        curvatures;
-//!      - then every point is re-estimated by a *weighted local quadratic regression* of
-//!        the crack midpoints in its own frame. A midpoint is only known to ±0.5 px along
-//!        its crack's normal n, i.e. ±0.5·|n·ν| across the outline (normal ν), so the
-//!        risers of a shallow staircase are precise and the long flat runs are not; the
-//!        weights are 1/((n·ν)² + 0.01), and a run of equal cracks shares one weight
-//!        because its error is common to all of them. The bandwidth grows like √R with
-//!        the radius of curvature R, since the flat run at the top of a digitised circle
-//!        is up to √(8R) long and the window must reach the risers beyond it, and is cut
-//!        back where the fitted parabola would leave the pixel constraints (a window
-//!        reaching from a straight side into a tight curve). This is what keeps a 40 px
-//!        disk within ~0.25 px of the true circle where plain smoothing of the midpoints
-//!        leaves ~0.5 px at the top, bottom and sides, and it keeps digital straight lines
-//!        straight.
+//!      - every point is then re-estimated by a *weighted local regression* of the crack
+//!        midpoints in its own frame (a parabola; a line where a corner cuts the window
+//!        short). A midpoint is only known to ±0.5 px along its crack's normal n, i.e.
+//!        ±0.5·|n·ν| across the outline (normal ν), so the risers of a shallow staircase
+//!        are precise and its long flat runs are not: the weights are 1/((n·ν)² + 0.01),
+//!        and a run of equal cracks shares one weight because its error is common to all
+//!        of them. The bandwidth grows like √R with the radius of curvature R, since the
+//!        flat run at the top of a digitised circle is up to √(8R) long and the window
+//!        must reach the risers beyond it, and is cut back where the fitted parabola
+//!        would leave the pixel constraints (a window reaching from a straight side into
+//!        a tight curve). Plain smoothing of the midpoints leaves ~0.5 px at the top,
+//!        bottom and sides of a circle; this leaves ~0.25 px and keeps digital straight
+//!        lines straight;
+//!      - each candidate corner is then placed at the intersection of its two side lines
+//!        (fitted to the raw midpoints with the same weights along straight sides, or to
+//!        the regressed points next to it along curved ones) and kept only if it is
+//!        *consistent with the pixels*: foreground pixel centres around it inside the
+//!        corner's wedge, background centres outside. A digitised curve taken for a
+//!        corner fails this and is smoothed instead. The points next to a kept corner are
+//!        regressed again with the corner in their windows.
 //! 4. **Clean-up.** Points closer than 0.3 px to their predecessor and points that step
 //!    backwards (at concave corners) are removed, then each closed polyline is resampled
 //!    to about 0.8 px spacing (a little more than one point per pixel of boundary), keeping
@@ -64,15 +73,17 @@
 //!    fewer than 3 points or an enclosed area below `min_area` are dropped with all the
 //!    contours nested inside them, and parent indices are renumbered.
 //!
-//! Measured (tests in this file and a benchmark over 10 sub-pixel centres per radius):
-//! anti-aliased disks of radius 20 come out within 0.03 px of the circle (mean 0.01 px);
-//! anti-aliased square corners within 0.03 px; bilevel disks of radius 10–80 within
-//! 0.2–0.32 px, small ones (radius 2–7) within 0.5 px; bilevel axis-aligned squares exact.
+//! Measured (tests in this file, and a benchmark over 10 sub-pixel centres per radius):
+//! anti-aliased disks of radius 20 within 0.03 px of the circle (mean 0.006 px), radius
+//! 5–80 within 0.06 px; anti-aliased square corners within 0.03 px; bilevel disks of
+//! radius 10–80 within 0.23–0.31 px (radius 40: 0.24), radius 2–7 within 0.5 px; bilevel
+//! squares exact when axis-aligned, corners within 0.05 px when rotated; the sides of a
+//! bilevel rectangle tilted by 4° within 0.06 px.
 //!
 //! Limits: strokes thinner than about 2 px cannot be placed exactly from one side (the
 //! coverage never reaches 1). A bilevel straight edge is only known to the pixel: an
 //! axis-aligned one stays up to 0.5 px off, whatever the method. Bilevel shapes under
-//! ~10 px across come out rounded.
+//! ~12 px across come out rounded.
 
 use crate::error::{Error, Result};
 use crate::geom::{signed_area, Point};
@@ -87,8 +98,9 @@ const HALF_WINDOW: f64 = 2.0;
 const WINDOW_STEPS: usize = 8;
 /// A rise (outward) or fall (inward) of coverage by more than this ends the window.
 const MONOTONE_SLACK: f64 = 0.02;
-/// The gradient normal is used when its cosine with the crack normal is at least this.
-const MIN_NORMAL_AGREEMENT: f64 = 0.35;
+/// The gradient normal is used when its cosine with the crack normal is at least this (it
+/// may run along the crack, at the tip of a thin sliver, but not back into the foreground).
+const MIN_NORMAL_AGREEMENT: f64 = 0.0;
 /// Largest accepted move (px) of a refined point from its crack midpoint.
 const MAX_SHIFT: f64 = 1.5;
 /// Points closer than this (px) to their predecessor are removed.
@@ -101,18 +113,33 @@ const ANCHOR_TURN_DEG: f64 = 20.0;
 const CORNER_REACH: usize = 3;
 /// Smallest chord angle (degrees) that makes a bilevel corner.
 const CORNER_ANGLE_DEG: f64 = 55.0;
-/// Loops of fewer cracks (shapes under about 10 px across) get no corners: at that size a
+/// Chord length, in cracks, of the second bilevel corner detector...
+const CORNER_LONG_REACH: usize = 7;
+/// ...and its smallest chord angle (degrees).
+const CORNER_LONG_ANGLE_DEG: f64 = 70.0;
+/// Loops of fewer cracks (shapes under about 12 px across) get no corners: at that size a
 /// digitised disk and a digitised polygon are indistinguishable, and they are smoothed.
-const MIN_CORNER_LOOP: usize = 40;
+const MIN_CORNER_LOOP: usize = 48;
 /// Smallest turn (degrees) between the fitted side lines of a bilevel corner: the vertices
 /// of a small digitised circle (a digital octagon, 45° turns) must not become corners.
 const CORNER_LINE_ANGLE_DEG: f64 = 50.0;
-/// Points fitted on each side of a bilevel corner.
+/// Points fitted on each side of a bilevel corner with curved sides, or close neighbours.
 const CORNER_FIT_POINTS: usize = 8;
+/// Cracks on each side of a corner candidate kept out of the first regression.
+const CORNER_ZONE: usize = 2;
+/// Corner placement: points next to the corner skipped on each side...
+const CORNER_FIT_SKIP: usize = 2;
+/// ...and the farthest raw midpoint fitted to a straight side.
+const CORNER_FIT_FAR: usize = 48;
+/// Weight of a placed corner in the regression windows that end at it.
+const CORNER_WEIGHT: f64 = 20.0;
+/// After the corners are placed, points within this many cracks of one are regressed again
+/// with the corner in their window.
+const CORNER_REGRESSION_REACH: usize = 12;
 /// Tolerance (px) of the pixel-consistency test of a bilevel corner.
-const CORNER_PIXEL_SLACK: f64 = 0.1;
+const CORNER_PIXEL_SLACK: f64 = 0.2;
 /// Largest move (px) of a corner to the intersection of its side lines.
-const MAX_CORNER_MOVE: f64 = 1.0;
+const MAX_CORNER_MOVE: f64 = 1.5;
 /// Passes of the [1, 2, 1]/4 filter that pre-smooth bilevel outlines.
 const SMOOTHING_PASSES: usize = 4;
 /// Bilevel bandwidth σ (px) per √(local diameter), see [`Workspace::choose_bandwidths`].
@@ -140,6 +167,11 @@ const BANDWIDTH_REACH: f64 = 2.5;
 /// outline (the risers of a shallow staircase) are precise, those along it are not. Weights
 /// are 1 / ((n·ν)² + this floor).
 const BILEVEL_PRECISION_FLOOR: f64 = 0.01;
+/// Variance (px²) of the blur between the shape and the integrated profile: the pixel's
+/// box filter (1/12) plus bilinear interpolation (1/6).
+const EDGE_BLUR_VARIANCE: f64 = 0.25;
+/// Largest curvature (1/px) used for the curvature-bias correction.
+const MAX_BIAS_CURVATURE: f64 = 0.5;
 /// Arc length (px) to the chord ends of the grey-level corner detector.
 const GREY_CORNER_REACH: f64 = 2.0;
 /// Smallest chord angle (degrees) of a grey-level corner.
@@ -451,6 +483,8 @@ struct Workspace {
     chord_ends: Vec<(i64, i64)>,
     /// Bilevel: the regression bandwidth at each point.
     sigma: Vec<f64>,
+    /// Bilevel: which points the current regression round fits.
+    near: Vec<bool>,
     /// Bilevel: the run weight of each crack.
     run_weight: Vec<f64>,
     corners: Vec<usize>,
@@ -476,6 +510,7 @@ impl Workspace {
         }
         self.remove_close_and_backsteps();
         self.sharpen_rounded_corners();
+        self.correct_curvature_bias();
         self.mark_turns();
         self.resample()
     }
@@ -495,20 +530,35 @@ impl Workspace {
         if n >= 2 * CORNER_REACH + 2 {
             if n >= MIN_CORNER_LOOP {
                 self.find_corners();
-                self.place_corners(mask, true);
             } else {
                 self.corners.clear();
             }
+            // A candidate and the cracks next to it (where a digitised corner is cut off by
+            // a short chamfer) stay out of the first regression.
             for &c in &self.corners {
-                self.anchors[c] = true;
+                for k in 0..=2 * CORNER_ZONE {
+                    self.anchors[(c + n + k - CORNER_ZONE) % n] = true;
+                }
             }
             self.smooth();
             self.run_weights();
             let mut window = Vec::new();
             self.update_tangents();
             self.choose_bandwidths(&mut window);
-            self.regress();
-            self.place_corners(mask, false);
+            self.regress(false);
+            if !self.corners.is_empty() {
+                for &c in &self.corners {
+                    for k in 0..=2 * CORNER_ZONE {
+                        self.anchors[(c + n + k - CORNER_ZONE) % n] = false;
+                    }
+                }
+                for &c in &self.corners {
+                    self.anchors[c] = true;
+                }
+                self.place_corners(mask);
+                self.update_tangents();
+                self.regress(true);
+            }
         }
         self.update_tangents();
         self.remove_close_and_backsteps();
@@ -521,22 +571,50 @@ impl Workspace {
     fn find_corners(&mut self) {
         let pts = &self.points;
         let n = pts.len();
-        let k = CORNER_REACH;
-        self.values.clear();
-        self.values.extend((0..n).map(|i| {
+        let chord_angle = |i: usize, k: usize| {
             let back = pts[i] - pts[(i + n - k) % n];
             let ahead = pts[(i + k) % n] - pts[i];
             turn_angle(back, ahead)
-        }));
-        let a = &self.values;
-        let min = CORNER_ANGLE_DEG.to_radians();
-        self.corners.clear();
-        for i in 0..n {
-            let ai = a[i];
-            if ai >= min && (1..=k).all(|j| ai > a[(i + n - j) % n] && ai >= a[(i + j) % n]) {
-                self.corners.push(i);
+        };
+        let local_maxima = |angles: &[f64], min: f64, out: &mut Vec<usize>| {
+            let k = CORNER_REACH;
+            for i in 0..n {
+                let a = angles[i];
+                if a >= min
+                    && (1..=k).all(|j| a > angles[(i + n - j) % n] && a >= angles[(i + j) % n])
+                {
+                    out.push(i);
+                }
             }
-        }
+        };
+        // Short chords see sharp corners...
+        self.values.clear();
+        self.values
+            .extend((0..n).map(|i| chord_angle(i, CORNER_REACH)));
+        self.corners.clear();
+        local_maxima(
+            &self.values,
+            CORNER_ANGLE_DEG.to_radians(),
+            &mut self.corners,
+        );
+        // ...long ones also corners that digitisation cut off with a short chamfer, but
+        // need a larger angle not to take curves, and would merge corners close together:
+        // they only add corners where the short chords found none.
+        self.values.clear();
+        self.values
+            .extend((0..n).map(|i| chord_angle(i, CORNER_LONG_REACH)));
+        let mut long = Vec::new();
+        local_maxima(&self.values, CORNER_LONG_ANGLE_DEG.to_radians(), &mut long);
+        let near = |i: usize, j: usize| {
+            let d = (i + n - j) % n;
+            d.min(n - d) <= CORNER_LONG_REACH
+        };
+        let short = self.corners.clone();
+        self.corners.extend(
+            long.into_iter()
+                .filter(|&i| short.iter().all(|&j| !near(i, j))),
+        );
+        self.corners.sort_unstable();
     }
 
     /// [1, 2, 1]/4 smoothing, anchors held fixed (cyclic when there is none).
@@ -609,8 +687,9 @@ impl Workspace {
 
     /// The cracks around point `i` that a regression window of half-width `reach` may
     /// use, in the frame of the point's current position and tangent. The window stops at
-    /// anchors and where the outline has turned by more than 60°.
-    fn collect_window(&self, i: usize, reach: f64, window: &mut Vec<WindowPoint>) {
+    /// anchors and where the outline has turned by more than 60°. Returns whether an
+    /// anchor (a corner) cut it short.
+    fn collect_window(&self, i: usize, reach: f64, window: &mut Vec<WindowPoint>) -> bool {
         let n = self.points.len();
         let half = n / 2;
         let origin = self.points[i];
@@ -646,6 +725,7 @@ impl Workspace {
         while ahead + back < n - 1 && ahead < half && add((i + ahead + 1) % n) {
             ahead += 1;
         }
+        self.anchors[(i + n - back - 1) % n] || self.anchors[(i + ahead + 1) % n]
     }
 
     /// Bilevel: the weight of every crack for the current tangents (run weight × precision
@@ -680,10 +760,21 @@ impl Workspace {
         let mut log_sigma = std::mem::take(&mut self.angles);
         log_sigma.clear();
         for i in (0..n).step_by(BANDWIDTH_STRIDE) {
-            let back = self.points[i] - self.points[(i + n - k) % n];
-            let ahead = self.points[(i + k) % n] - self.points[i];
+            // The chords stop short of corners; next to one, the curvature is left to the
+            // consistency test.
+            let reach_back = (1..=k)
+                .find(|&j| self.anchors[(i + n - j) % n])
+                .unwrap_or(k + 1)
+                - 1;
+            let reach_ahead = (1..=k)
+                .find(|&j| self.anchors[(i + j) % n])
+                .unwrap_or(k + 1)
+                - 1;
+            let (kb, ka) = (reach_back.min(reach_ahead), reach_back.min(reach_ahead));
+            let back = self.points[i] - self.points[(i + n - kb) % n];
+            let ahead = self.points[(i + ka) % n] - self.points[i];
             let arc = 0.5 * (norm(back) + norm(ahead));
-            let curvature = if arc > 0.0 {
+            let curvature = if arc > 0.0 && kb >= 3 {
                 turn_angle(back, ahead) / arc
             } else {
                 0.0
@@ -694,7 +785,7 @@ impl Workspace {
             } else {
                 BANDWIDTHS[BANDWIDTHS.len() - 1]
             };
-            self.collect_window(i, BANDWIDTH_REACH * by_curvature, window);
+            let cut = self.collect_window(i, BANDWIDTH_REACH * by_curvature, window);
             // The widest consistent candidate, trying the widest first.
             let candidates = std::iter::once(by_curvature).chain(
                 BANDWIDTHS
@@ -705,7 +796,7 @@ impl Workspace {
             );
             let mut sigma = BANDWIDTHS[0];
             for candidate in candidates {
-                let consistent = fit_window(window, candidate)
+                let consistent = fit_window(window, candidate, cut)
                     .is_some_and(|fit| fit_violation(window, candidate, fit) <= FIT_PIXEL_SLACK);
                 if consistent {
                     sigma = candidate;
@@ -748,18 +839,30 @@ impl Workspace {
     /// v = a + b·u + c·u² with a biweight kernel of the point's bandwidth (see
     /// [`Workspace::choose_bandwidths`]), the run weights and the precision weights of
     /// [`BILEVEL_PRECISION_FLOOR`], and moves the point to v = a. Anchors stay put.
-    fn regress(&mut self) {
+    fn regress(&mut self, near_corners: bool) {
         let n = self.points.len();
         let half = n / 2;
         self.crack_weights();
         self.scratch.clear();
         self.scratch_tangents.clear();
+        // With `near_corners`, only the points near a corner are fitted again, and the
+        // (placed) corner that ends a window is part of it.
+        let mut near = std::mem::take(&mut self.near);
+        near.clear();
+        near.resize(n, !near_corners);
+        if near_corners {
+            for &c in &self.corners {
+                for k in 0..=2 * CORNER_REGRESSION_REACH.min(half) {
+                    near[(c + n + k - CORNER_REGRESSION_REACH.min(half)) % n] = true;
+                }
+            }
+        }
         // The fit of the last fitted point: origin, tangent, (a, b, c).
         let mut last: Option<(Point, Point, (f64, f64, f64))> = None;
-        for i in 0..n {
+        for (i, &fit_here) in near.iter().enumerate() {
             let origin = self.points[i];
             let tangent = self.tangents[i];
-            if self.anchors[i] {
+            if self.anchors[i] || !fit_here {
                 self.scratch.push(origin);
                 self.scratch_tangents.push(tangent);
                 last = None;
@@ -780,17 +883,28 @@ impl Workspace {
             // The same walk as `collect_window`, fitted on the fly.
             let mut fit = QuadraticFit::default();
             let mut add = |j: usize| -> bool {
-                let d = self.raw[j] - origin;
+                let corner = self.anchors[j];
+                let d = if corner {
+                    self.points[j] - origin
+                } else {
+                    self.raw[j] - origin
+                };
                 let x = d.length_squared() * inverse;
-                if self.anchors[j]
+                if (corner && !near_corners)
                     || x > 1.0
-                    || self.tangents[j].dot(tangent) < MIN_WINDOW_TANGENT_COSINE
+                    || (!corner && self.tangents[j].dot(tangent) < MIN_WINDOW_TANGENT_COSINE)
                 {
                     return false;
                 }
                 let kernel = (1.0 - x) * (1.0 - x);
-                fit.add(d.dot(tangent), d.dot(normal), kernel * self.values[j]);
-                true
+                let weight = if corner {
+                    CORNER_WEIGHT
+                } else {
+                    self.values[j]
+                };
+                fit.add(d.dot(tangent), d.dot(normal), kernel * weight);
+                // A corner ends the window.
+                !corner
             };
             add(i);
             let mut back = 0;
@@ -801,7 +915,11 @@ impl Workspace {
             while ahead + back < n - 1 && ahead < half && add((i + ahead + 1) % n) {
                 ahead += 1;
             }
-            match fit.solve() {
+            // A window cut short by a corner on one side cannot tell curvature from
+            // offset: fit a line there.
+            let cut = self.anchors[(i + n - back - 1) % n] || self.anchors[(i + ahead + 1) % n];
+            let solution = if cut { fit.solve_linear() } else { fit.solve() };
+            match solution {
                 Some((a, b, c)) => {
                     self.scratch.push(origin + normal * a);
                     self.scratch_tangents
@@ -817,17 +935,19 @@ impl Workspace {
         }
         std::mem::swap(&mut self.points, &mut self.scratch);
         std::mem::swap(&mut self.tangents, &mut self.scratch_tangents);
+        self.near = near;
     }
 
-    /// Places each bilevel corner at the intersection of the lines fitted to the current
-    /// points on its two sides (up to `CORNER_FIT_POINTS`, never past the neighbouring
-    /// corners), when that corner is *consistent with the pixels*: the foreground centres
-    /// of the cracks around it lie inside the two side lines' wedge and the background
-    /// centres outside (within `CORNER_PIXEL_SLACK`). A digitised curve seen as a corner
-    /// fails this: its extrapolated corner covers background pixels. With `drop_rejected`,
-    /// rejected candidates are forgotten; otherwise they stop being anchors and move to the
-    /// middle of their neighbours.
-    fn place_corners(&mut self, mask: &PaddedMask, drop_rejected: bool) {
+    /// Places each bilevel corner candidate at the intersection of the lines fitted to the
+    /// regressed outline on its two sides, from `CORNER_FIT_SKIP` + 1 to `CORNER_FIT_FAR`
+    /// points away (never more than half-way to the neighbouring candidates; near ones fall
+    /// back to the nearest points), when that corner is *consistent with the pixels*: the
+    /// foreground centres of the cracks around it lie inside the two side lines' wedge and
+    /// the background centres outside (within `CORNER_PIXEL_SLACK`), and so do the 5×5
+    /// pixels around it. A digitised curve taken for a corner fails this: its extrapolated
+    /// corner covers background pixels. Rejected candidates stop being anchors; every
+    /// candidate stays in `self.corners` so that its neighbourhood is regressed again.
+    fn place_corners(&mut self, mask: &PaddedMask) {
         let n = self.points.len();
         let m = self.corners.len();
         if m == 0 {
@@ -835,7 +955,7 @@ impl Workspace {
         }
         self.scratch.clear();
         self.scratch.extend_from_slice(&self.points);
-        let mut accepted = Vec::with_capacity(m);
+        let first = CORNER_FIT_SKIP + 1;
         for ci in 0..m {
             let c = self.corners[ci];
             let prev = self.corners[(ci + m - 1) % m];
@@ -852,42 +972,101 @@ impl Workspace {
             } else {
                 (next + n - c) % n - 1
             };
-            let most = CORNER_FIT_POINTS.min(n / 6);
-            let back_count = gap_back.min(most);
-            let ahead_count = gap_ahead.min(most);
-            let corner = self.corner_from_sides(mask, c, back_count, ahead_count);
+            // Straight sides: the raw midpoints all the way to the next corner zone. Curved
+            // sides (where the long lines fail the pixel test): the regressed points near
+            // the corner. Corners close together: the nearest points.
+            let long_back = gap_back.saturating_sub(CORNER_ZONE + 1).min(CORNER_FIT_FAR);
+            let long_ahead = gap_ahead
+                .saturating_sub(CORNER_ZONE + 1)
+                .min(CORNER_FIT_FAR);
+            let short_back = gap_back
+                .saturating_sub(CORNER_ZONE + 1)
+                .min(CORNER_FIT_POINTS);
+            let short_ahead = gap_ahead
+                .saturating_sub(CORNER_ZONE + 1)
+                .min(CORNER_FIT_POINTS);
+            let corner = if short_back >= first + 2 && short_ahead >= first + 2 {
+                self.corner_from_sides(mask, c, (first, long_back), (first, long_ahead), true)
+                    .or_else(|| {
+                        self.corner_from_sides(
+                            mask,
+                            c,
+                            (first, short_back),
+                            (first, short_ahead),
+                            false,
+                        )
+                    })
+            } else {
+                let most = CORNER_FIT_POINTS.min(n / 6);
+                self.corner_from_sides(
+                    mask,
+                    c,
+                    (1, gap_back.min(most)),
+                    (1, gap_ahead.min(most)),
+                    false,
+                )
+            };
             match corner {
-                Some(x) => {
-                    self.points[c] = x;
-                    accepted.push(c);
-                }
-                None if !drop_rejected => {
+                Some(x) => self.points[c] = x,
+                None => {
                     // Not a corner after all: the point joins its neighbours.
                     let p = self.scratch[(c + n - 1) % n];
                     let q = self.scratch[(c + 1) % n];
                     self.points[c] = p.lerp(q, 0.5);
                     self.anchors[c] = false;
                 }
-                None => {}
             }
         }
-        self.corners = accepted;
     }
 
-    /// The corner at `c` from `back`/`ahead` points on each side of `self.scratch`, checked
-    /// against the cracks in that range and the 5×5 pixels around the corner (see
-    /// [`Workspace::place_corners`]).
+    /// The line of one side of a bilevel corner: a first guess through the current points
+    /// at `indices`, then twice a weighted least-squares line through the raw crack
+    /// midpoints with the run and precision weights of the regression (so that the risers
+    /// of a shallow staircase decide, not its flat runs).
+    fn fit_side(&self, indices: impl Iterator<Item = usize> + Clone) -> Option<Line> {
+        let (mut line, _) = fit_line(indices.clone().map(|j| self.scratch[j]))?;
+        for _ in 0..2 {
+            let normal = line.direction.perp();
+            let mut fit = QuadraticFit::default();
+            for j in indices.clone() {
+                let d = self.raw[j] - line.origin;
+                let across = self.normals[j].cross(line.direction);
+                let weight = self.run_weight[j] / (across * across + BILEVEL_PRECISION_FLOOR);
+                fit.add(d.dot(line.direction), d.dot(normal), weight);
+            }
+            let (a, b, _) = fit.solve_linear()?;
+            line = Line {
+                origin: line.origin + normal * a,
+                direction: unit(line.direction + normal * b)?,
+            };
+        }
+        Some(line)
+    }
+
+    /// The corner at `c` from the points `back_first..=back` before and
+    /// `ahead_first..=ahead` after it (the raw midpoints by [`Workspace::fit_side`] with
+    /// `raw`, else a plain line through the current points `self.scratch`), checked against the cracks in that range and the 5×5 pixels
+    /// around the corner (see [`Workspace::place_corners`]).
     fn corner_from_sides(
         &self,
         mask: &PaddedMask,
         c: usize,
-        back: usize,
-        ahead: usize,
+        (back_first, back): (usize, usize),
+        (ahead_first, ahead): (usize, usize),
+        raw: bool,
     ) -> Option<Point> {
         let n = self.scratch.len();
         let pts = &self.scratch;
-        let (back_line, _) = fit_line((1..=back).map(|j| pts[(c + n - j) % n]))?;
-        let (ahead_line, _) = fit_line((1..=ahead).map(|j| pts[(c + j) % n]))?;
+        let back_indices = (back_first..=back).map(|j| (c + n - j) % n);
+        let ahead_indices = (ahead_first..=ahead).map(|j| (c + j) % n);
+        let (back_line, ahead_line) = if raw {
+            (self.fit_side(back_indices)?, self.fit_side(ahead_indices)?)
+        } else {
+            (
+                fit_line(back_indices.map(|j| pts[j]))?.0,
+                fit_line(ahead_indices.map(|j| pts[j]))?.0,
+            )
+        };
         let x = intersect(back_line, ahead_line)?;
         if norm(x - pts[c]) > MAX_CORNER_MOVE {
             return None;
@@ -937,6 +1116,42 @@ impl Workspace {
             })
         });
         (cracks_agree && pixels_agree).then_some(x)
+    }
+
+    /// Grey-level path: on a curved edge the coverage integral is biased towards the
+    /// centre of curvature by about v/(2R), v = 1/12 + 1/6 = 1/4 px² being the variance of
+    /// the pixel's box filter plus that of bilinear interpolation (0.010 px for R = 12).
+    /// Each point is moved back by that amount, with R from the circle through the points
+    /// two before and two after it (capped at R ≥ 2 px). Sharpened corners and their
+    /// neighbours are left alone.
+    fn correct_curvature_bias(&mut self) {
+        let n = self.points.len();
+        if n < 5 {
+            return;
+        }
+        self.scratch.clear();
+        self.scratch.extend_from_slice(&self.points);
+        let pts = &self.scratch;
+        for i in 0..n {
+            // Not across a sharpened corner.
+            if (0..5).any(|k| self.anchors[(i + n + k - 2) % n]) {
+                continue;
+            }
+            let (a, b, c) = (pts[(i + n - 2) % n], pts[i], pts[(i + 2) % n]);
+            let denominator = norm(b - a) * norm(c - b) * norm(c - a);
+            if denominator <= 0.0 {
+                continue;
+            }
+            // Signed curvature, positive where the outline turns towards the foreground
+            // (right, on screen); the bias is towards that side.
+            let curvature = (2.0 * (b - a).cross(c - b) / denominator)
+                .clamp(-MAX_BIAS_CURVATURE, MAX_BIAS_CURVATURE);
+            let Some(t) = unit(c - a) else {
+                continue;
+            };
+            // t.perp() points to the foreground side.
+            self.points[i] = b - t.perp() * (0.5 * EDGE_BLUR_VARIANCE * curvature);
+        }
     }
 
     /// Grey-level path: anti-aliasing rounds corners off (by up to ~0.6 px for a right
@@ -1015,13 +1230,13 @@ impl Workspace {
                 continue;
             }
             let inner_back = back_by(i, GREY_CORNER_SKIP);
-            let outer_back = back_by(i, GREY_CORNER_SKIP + GREY_CORNER_SIDE);
+            // A side never reaches into the rounded part of the previous corner.
+            let outer_back = back_by(i, GREY_CORNER_SKIP + GREY_CORNER_SIDE).max(last_end);
             let inner_ahead = ahead_by(i, GREY_CORNER_SKIP);
             let outer_ahead = ahead_by(i, GREY_CORNER_SKIP + GREY_CORNER_SIDE);
             if inner_back - outer_back < 2
                 || outer_ahead - inner_ahead < 2
                 || outer_ahead - outer_back >= nn
-                || outer_back < last_end
             {
                 continue;
             }
@@ -1041,7 +1256,7 @@ impl Workspace {
             }
             // Replace the points strictly between the two inner side points.
             edits.push((inner_back + 1, inner_ahead - inner_back - 1, x));
-            last_end = outer_ahead;
+            last_end = inner_ahead;
         }
         // The last edit must not overlap the first one across the closing joint.
         if edits.len() > 1 {
@@ -1243,6 +1458,17 @@ impl QuadraticFit {
                 }
             }
         }
+        self.solve_linear()
+    }
+
+    /// (a, b, 0): the weighted least-squares line, or the weighted mean when the points do
+    /// not determine a slope.
+    fn solve_linear(&self) -> Option<(f64, f64, f64)> {
+        let [m0, m1, m2, _, _] = self.moments;
+        let [r0, r1, _] = self.rhs;
+        if m0.is_nan() || m0 <= 0.0 {
+            return None;
+        }
         let det = m0 * m2 - m1 * m1;
         if self.count >= 2 && det > 1e-9 * m0 * m2 {
             let a = (r0 * m2 - m1 * r1) / det;
@@ -1253,10 +1479,11 @@ impl QuadraticFit {
     }
 }
 
-/// The quadratic fit of a window with bandwidth `sigma` (biweight kernel of half-width
+/// The quadratic (or, with `linear`, straight) fit of a window with bandwidth `sigma`
+/// (biweight kernel of half-width
 /// `BANDWIDTH_REACH · sigma`: smooth and zero at its edge, so that precise points do not
 /// jump in and out of the fit as the origin moves).
-fn fit_window(window: &[WindowPoint], sigma: f64) -> Option<(f64, f64, f64)> {
+fn fit_window(window: &[WindowPoint], sigma: f64, linear: bool) -> Option<(f64, f64, f64)> {
     let reach = BANDWIDTH_REACH * sigma;
     let inverse = 1.0 / (reach * reach);
     let mut fit = QuadraticFit::default();
@@ -1267,7 +1494,11 @@ fn fit_window(window: &[WindowPoint], sigma: f64) -> Option<(f64, f64, f64)> {
             fit.add(w.u, w.v, kernel * w.weight);
         }
     }
-    fit.solve()
+    if linear {
+        fit.solve_linear()
+    } else {
+        fit.solve()
+    }
 }
 
 /// How far (px) the fitted curve puts a crack's foreground centre outside, or its
@@ -1738,5 +1969,391 @@ mod tests {
             eprintln!("bilevel rotated corner {d:.3}");
             assert!(d < 0.7, "corner {corner:?} is {d} px away");
         }
+    }
+
+    /// Checks the invariants every result must satisfy: at least 3 finite points, outer
+    /// borders with positive area, holes negative, parents earlier in the list and of the
+    /// opposite kind.
+    fn check_invariants(cs: &[Contour]) {
+        for (i, c) in cs.iter().enumerate() {
+            assert!(
+                c.points.len() >= 3,
+                "contour {i} has {} points",
+                c.points.len()
+            );
+            assert!(c.points.iter().all(|p| p.is_finite()));
+            let area = signed_area(&c.points);
+            assert_eq!(
+                area < 0.0,
+                c.is_hole,
+                "contour {i}: area {area}, hole {}",
+                c.is_hole
+            );
+            assert!(area != 0.0);
+            match c.parent {
+                Some(p) => {
+                    assert!(p < i, "contour {i} has parent {p}");
+                    assert_ne!(cs[p].is_hole, c.is_hole, "contour {i} and its parent {p}");
+                }
+                None => assert!(!c.is_hole, "hole {i} without parent"),
+            }
+        }
+    }
+
+    /// A disk of radius `outer` with a hole of radius `inner` and, if `island` > 0, a disk
+    /// of that radius in the hole.
+    fn rings(ss: u32, outer: f64, inner: f64, island: f64) -> Bitmap {
+        let centre = Point::new(30.4, 29.7);
+        let cov = supersample(61, 60, ss, |x, y| {
+            let d = Point::new(x, y).distance(centre);
+            (d < outer && d >= inner) || d < island
+        });
+        Bitmap::from_coverage(61, 60, cov, None).unwrap()
+    }
+
+    #[test]
+    fn ring_gives_an_outer_border_and_its_hole() {
+        for ss in [16, 1] {
+            let bm = rings(ss, 25.0, 12.0, 0.0);
+            let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+            check_invariants(&cs);
+            assert_eq!(cs.len(), 2, "supersampling {ss}");
+            assert!(!cs[0].is_hole && cs[0].parent.is_none());
+            assert!(cs[1].is_hole);
+            assert_eq!(cs[1].parent, Some(0));
+            let pi = std::f64::consts::PI;
+            let tolerance = if ss == 1 { 0.02 } else { 0.002 };
+            let outer = signed_area(&cs[0].points);
+            let hole = signed_area(&cs[1].points);
+            assert!(
+                (outer / (pi * 625.0) - 1.0).abs() < tolerance,
+                "outer area {outer}"
+            );
+            assert!(
+                (hole / (-pi * 144.0) - 1.0).abs() < tolerance,
+                "hole area {hole}"
+            );
+        }
+    }
+
+    #[test]
+    fn island_in_a_hole_has_the_hole_as_parent() {
+        for ss in [16, 1] {
+            let bm = rings(ss, 25.0, 15.0, 7.0);
+            let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+            check_invariants(&cs);
+            assert_eq!(cs.len(), 3, "supersampling {ss}");
+            let hole = cs.iter().position(|c| c.is_hole).unwrap();
+            let island = cs
+                .iter()
+                .position(|c| !c.is_hole && c.parent.is_some())
+                .unwrap();
+            assert_eq!(cs[hole].parent, Some(0));
+            assert_eq!(cs[island].parent, Some(hole));
+            let area = signed_area(&cs[island].points);
+            let expected = std::f64::consts::PI * 49.0;
+            assert!((area / expected - 1.0).abs() < 0.03, "island area {area}");
+        }
+    }
+
+    #[test]
+    fn specks_and_everything_inside_them_are_dropped() {
+        // A 20×20 square with a one-pixel hole, a one-pixel speck outside, and a 3×3 hole
+        // holding a one-pixel island.
+        let cov = binary(40, 30, |x, y| {
+            let square = (5.0..25.0).contains(&x) && (5.0..25.0).contains(&y);
+            let pinhole = (10.0..11.0).contains(&x) && (10.0..11.0).contains(&y);
+            let big_hole = (15.0..18.0).contains(&x) && (15.0..18.0).contains(&y);
+            let island = (16.0..17.0).contains(&x) && (16.0..17.0).contains(&y);
+            let speck = (32.0..33.0).contains(&x) && (8.0..9.0).contains(&y);
+            (square && !pinhole && !big_hole) || island || speck
+        });
+        let bm = Bitmap::from_coverage(40, 30, cov, Some(0.5)).unwrap();
+        let all = extract_contours(&bm, &opts(0.0)).unwrap();
+        check_invariants(&all);
+        assert_eq!(all.len(), 5);
+        // Speck area 0.5 (a diamond through the crack midpoints), pinhole 0.5, the big
+        // hole about 8.5: min_area 2 keeps the square and the big hole; the island goes.
+        let kept = extract_contours(&bm, &opts(2.0)).unwrap();
+        check_invariants(&kept);
+        assert_eq!(kept.len(), 2, "{kept:#?}");
+        assert!(!kept[0].is_hole && kept[1].is_hole);
+        assert_eq!(kept[1].parent, Some(0));
+        assert!((signed_area(&kept[0].points) - 400.0).abs() < 1e-6);
+        // Dropping the outer border drops its holes too.
+        let none = extract_contours(&bm, &opts(500.0)).unwrap();
+        assert!(none.is_empty());
+    }
+
+    #[test]
+    fn shapes_touching_the_edge_are_closed_along_it() {
+        // A bar over the full width, rows 4..10 of a 30×14 image, and the same bar
+        // anti-aliased (edges at y = 3.625 and 10.3125, exact under 16×16 supersampling).
+        for ss in [1, 16] {
+            let cov = supersample(30, 14, ss, |_, y| (3.625..10.3125).contains(&y));
+            let bm = Bitmap::from_coverage(30, 14, cov, None).unwrap();
+            let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+            check_invariants(&cs);
+            assert_eq!(cs.len(), 1);
+            let pts = &cs[0].points;
+            let min_x = pts.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+            let max_x = pts.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max);
+            assert!(min_x.abs() < 1e-9, "min x {min_x}");
+            assert!((max_x - 30.0).abs() < 1e-9, "max x {max_x}");
+            assert!(pts.iter().filter(|p| p.x.abs() < 1e-9).count() >= 2);
+            if ss == 16 {
+                // The long sides are refined to the true edges.
+                for p in pts.iter().filter(|p| (3.0..27.0).contains(&p.x)) {
+                    let d = (p.y - 3.625).abs().min((p.y - 10.3125).abs());
+                    assert!(d < 0.02, "{p:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn full_and_empty_images() {
+        let full = Bitmap::from_coverage(30, 20, vec![1.0; 600], Some(0.5)).unwrap();
+        let grey = Bitmap::from_coverage(30, 20, vec![0.9; 600], None).unwrap();
+        for bm in [full, grey] {
+            let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+            check_invariants(&cs);
+            assert_eq!(cs.len(), 1);
+            // One outer border along the image border, square corners kept.
+            let area = signed_area(&cs[0].points);
+            assert!((area - 600.0).abs() < 1e-9, "area {area}");
+        }
+        // Too small for corners (under 40 cracks of boundary): rounded, but traced.
+        let small = Bitmap::from_coverage(7, 5, vec![1.0; 35], Some(0.5)).unwrap();
+        let cs = extract_contours(&small, &opts(2.0)).unwrap();
+        check_invariants(&cs);
+        let area = signed_area(&cs[0].points);
+        assert!(area > 33.0 && area < 35.0, "area {area}");
+        let empty = Bitmap::from_coverage(7, 5, vec![0.0; 35], Some(0.5)).unwrap();
+        assert!(extract_contours(&empty, &opts(0.0)).unwrap().is_empty());
+    }
+
+    #[test]
+    fn degenerate_shapes_do_not_break_anything() {
+        let cases: Vec<(&str, u32, u32, Vec<f32>)> = vec![
+            (
+                "one pixel",
+                5,
+                5,
+                binary(5, 5, |x, y| x > 2.0 && x < 3.0 && y > 2.0 && y < 3.0),
+            ),
+            (
+                "one-pixel line",
+                20,
+                5,
+                binary(20, 5, |x, y| x > 2.0 && y > 2.0 && y < 3.0),
+            ),
+            (
+                "diagonal line",
+                12,
+                12,
+                binary(12, 12, |x, y| (x - y).abs() < 0.5),
+            ),
+            (
+                "checkerboard",
+                9,
+                8,
+                binary(9, 8, |x, y| (x as i64 + y as i64) % 2 == 0),
+            ),
+            (
+                "all four edges",
+                9,
+                9,
+                binary(9, 9, |x, y| x < 1.0 || y < 1.0 || x > 8.0 || y > 8.0),
+            ),
+            (
+                "thin grey line",
+                20,
+                6,
+                (0..120)
+                    .map(|i| {
+                        if i / 20 == 2 {
+                            0.6
+                        } else if i / 20 == 3 {
+                            0.4
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect(),
+            ),
+            (
+                "noise",
+                16,
+                16,
+                (0..256u32)
+                    .map(|i| ((i.wrapping_mul(2_654_435_761) >> 7) % 256) as f32 / 255.0)
+                    .collect(),
+            ),
+        ];
+        for (name, w, h, cov) in cases {
+            for threshold in [None, Some(0.5)] {
+                let bm = Bitmap::from_coverage(w, h, cov.clone(), threshold).unwrap();
+                for min_area in [0.0, 2.0] {
+                    let cs = extract_contours(&bm, &opts(min_area))
+                        .unwrap_or_else(|e| panic!("{name}: {e}"));
+                    check_invariants(&cs);
+                    for c in &cs {
+                        assert!(signed_area(&c.points).abs() >= min_area, "{name}");
+                        for p in &c.points {
+                            // Everything stays within a pixel of the image.
+                            assert!(p.x >= -1.0 && p.y >= -1.0, "{name}: {p:?}");
+                            assert!(p.x <= w as f64 + 1.0 && p.y <= h as f64 + 1.0, "{name}");
+                        }
+                    }
+                }
+            }
+        }
+        // The single pixel survives only without a speck limit, as a small diamond.
+        let bm = Bitmap::from_coverage(
+            5,
+            5,
+            binary(5, 5, |x, y| x > 2.0 && x < 3.0 && y > 2.0 && y < 3.0),
+            Some(0.5),
+        )
+        .unwrap();
+        let cs = extract_contours(&bm, &opts(0.0)).unwrap();
+        assert_eq!(cs.len(), 1);
+        assert!((signed_area(&cs[0].points) - 0.5).abs() < 1e-9);
+        assert!(extract_contours(&bm, &opts(2.0)).unwrap().is_empty());
+    }
+
+    #[test]
+    fn invalid_min_area_is_an_error() {
+        let bm = Bitmap::from_coverage(2, 2, vec![1.0; 4], Some(0.5)).unwrap();
+        for bad in [-1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                extract_contours(&bm, &opts(bad)),
+                Err(Error::InvalidOption {
+                    name: "--min-area",
+                    ..
+                })
+            ));
+        }
+    }
+
+    #[test]
+    fn mismatched_public_size_is_an_error_not_a_panic() {
+        let mut bm = Bitmap::from_coverage(3, 3, vec![1.0; 9], Some(0.5)).unwrap();
+        bm.width = 30;
+        assert!(matches!(
+            extract_contours(&bm, &opts(0.0)),
+            Err(Error::InvalidOption { name: "bitmap", .. })
+        ));
+    }
+
+    #[test]
+    fn edge_placement_does_not_depend_on_the_threshold() {
+        let (bm, centre, radius) = disk_bitmap(16);
+        for t in [0.3, 0.7] {
+            let moved = Bitmap::from_coverage(bm.width, bm.height, bm.coverage().to_vec(), Some(t))
+                .unwrap();
+            let cs = extract_contours(&moved, &opts(2.0)).unwrap();
+            let (max, _) = circle_errors(&cs[0].points, centre, radius);
+            assert!(max < 0.05, "threshold {t}: {max}");
+        }
+    }
+
+    #[test]
+    fn bilevel_shallow_straight_edges_stay_straight() {
+        // A 60×40 rectangle rotated by 4°: its long sides are digital lines with long flat
+        // runs; away from the corners the outline must follow the true sides.
+        let corners = {
+            let (s, c) = 4f64.to_radians().sin_cos();
+            let centre = Point::new(40.3, 30.6);
+            let u = Point::new(c, s) * 30.0;
+            let v = Point::new(-s, c) * 20.0;
+            [
+                centre - u - v,
+                centre + u - v,
+                centre + u + v,
+                centre - u + v,
+            ]
+        };
+        let cov = binary(80, 62, |x, y| inside_convex(&corners, Point::new(x, y)));
+        let bm = Bitmap::from_coverage(80, 62, cov, None).unwrap();
+        let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+        let pts = &cs[0].points;
+        let mut worst: f64 = 0.0;
+        for p in pts
+            .iter()
+            .filter(|p| corners.iter().all(|c| c.distance(**p) > 3.0))
+        {
+            let d = (0..4)
+                .map(|i| {
+                    let (a, b) = (corners[i], corners[(i + 1) % 4]);
+                    ((*p - a).cross(b - a) / (b - a).length()).abs()
+                })
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+        eprintln!("shallow sides: worst {worst:.3}");
+        assert!(worst < 0.3, "worst side distance {worst}");
+        let turn = turning_degrees(pts)
+            .into_iter()
+            .zip(pts)
+            .filter(|(_, p)| corners.iter().all(|c| c.distance(**p) > 3.0))
+            .map(|(t, _)| t)
+            .fold(0.0, f64::max);
+        assert!(turn < 10.0, "turn {turn}° on a straight side");
+    }
+
+    #[test]
+    fn quadratic_fit_recovers_a_parabola() {
+        let mut fit = QuadraticFit::default();
+        for k in -5..=5 {
+            let u = k as f64 * 0.7;
+            fit.add(u, 0.3 - 0.2 * u + 0.05 * u * u, 1.0 + (k * k) as f64);
+        }
+        let (a, b, c) = fit.solve().unwrap();
+        assert!((a - 0.3).abs() < 1e-12 && (b + 0.2).abs() < 1e-12 && (c - 0.05).abs() < 1e-12);
+        // Two points determine a line, one a constant.
+        let mut line = QuadraticFit::default();
+        line.add(0.0, 1.0, 1.0);
+        line.add(2.0, 2.0, 1.0);
+        let (a, b, c) = line.solve().unwrap();
+        assert!((a - 1.0).abs() < 1e-12 && (b - 0.5).abs() < 1e-12 && c == 0.0);
+    }
+
+    #[test]
+    fn weighted_side_fit_follows_the_risers() {
+        // The half-plane below y = 10.3 + tan(4°)·x, cut to a box: its top side is a
+        // digital line with flat runs of about 14 px.
+        let m = 4f64.to_radians().tan();
+        let cov = binary(60, 30, |x, y| {
+            y > 10.3 + m * x && x > 5.0 && x < 55.0 && y < 25.0
+        });
+        let bm = Bitmap::from_coverage(60, 30, cov, Some(0.5)).unwrap();
+        let mask = PaddedMask::new(&bm);
+        let image =
+            GrayImage::from_raw(mask.width as u32, mask.height as u32, mask.data.clone()).unwrap();
+        let first = find_contours::<i32>(&image)[0].points[0];
+        let mut cracks = Vec::new();
+        mask.trace((i64::from(first.x), i64::from(first.y) + 1), 3, &mut cracks);
+        let mut w = Workspace::default();
+        w.raw.extend(cracks.iter().map(|c| c.mid));
+        w.normals.extend(cracks.iter().map(|c| c.normal));
+        w.run_weights();
+        w.scratch = w.raw.clone();
+        let top: Vec<usize> = (0..w.raw.len())
+            .filter(|&j| (15.0..45.0).contains(&w.raw[j].x) && w.raw[j].y < 15.0)
+            .collect();
+        let weighted = w.fit_side(top.iter().copied()).unwrap();
+        let (plain, _) = fit_line(top.iter().map(|&j| w.raw[j])).unwrap();
+        let error = |l: Line| {
+            let at = |x: f64| l.origin.y + (x - l.origin.x) / l.direction.x * l.direction.y;
+            (at(20.0) - (10.3 + 20.0 * m))
+                .abs()
+                .max((at(40.0) - (10.3 + 40.0 * m)).abs())
+        };
+        let (we, pe) = (error(weighted), error(plain));
+        // Measured: 0.041 px weighted, 0.071 px plain.
+        assert!(we < 0.05, "weighted side line off by {we}");
+        assert!(we < pe, "weighted {we} vs plain {pe}");
     }
 }
