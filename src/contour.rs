@@ -248,11 +248,13 @@ fn side_pixels(x: i64, y: i64, d: usize) -> ((i64, i64), (i64, i64)) {
 struct PaddedMask {
     width: i64,
     height: i64,
-    data: Vec<u8>,
+    /// 255 for foreground, 0 for background; also what `find_contours` reads.
+    image: GrayImage,
 }
 
 impl PaddedMask {
-    fn new(bitmap: &Bitmap) -> PaddedMask {
+    /// `None` only if the padded size overflows (callers check the size first).
+    fn new(bitmap: &Bitmap) -> Option<PaddedMask> {
         let (w, h) = (bitmap.width as usize, bitmap.height as usize);
         let pw = w + 2;
         let mut data = vec![0u8; pw * (h + 2)];
@@ -263,11 +265,13 @@ impl PaddedMask {
                 *d = if f64::from(v) >= t { 255 } else { 0 };
             }
         }
-        PaddedMask {
+        let image =
+            GrayImage::from_raw(u32::try_from(pw).ok()?, bitmap.height.checked_add(2)?, data)?;
+        Some(PaddedMask {
             width: pw as i64,
             height: h as i64 + 2,
-            data,
-        }
+            image,
+        })
     }
 
     #[inline]
@@ -276,7 +280,7 @@ impl PaddedMask {
             && y >= 0
             && x < self.width
             && y < self.height
-            && self.data[(y * self.width + x) as usize] != 0
+            && self.image.as_raw()[(y * self.width + x) as usize] != 0
     }
 
     /// Follows the crack loop that starts by leaving vertex `start` in direction `dir`,
@@ -364,15 +368,11 @@ fn extract_with(
         });
     }
 
-    let mask = PaddedMask::new(bitmap);
-    let borders = {
-        let image = GrayImage::from_raw(mask.width as u32, mask.height as u32, mask.data.clone())
-            .ok_or_else(|| Error::InvalidOption {
-            name: "bitmap",
-            message: "cannot build the padded mask".to_string(),
-        })?;
-        find_contours::<i32>(&image)
-    };
+    let mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
+        name: "bitmap",
+        message: "cannot build the padded mask".to_string(),
+    })?;
+    let borders = find_contours::<i32>(&mask.image);
 
     let mut cracks = Vec::new();
     let mut work = Workspace::default();
@@ -2329,10 +2329,8 @@ mod tests {
             y > 10.3 + m * x && x > 5.0 && x < 55.0 && y < 25.0
         });
         let bm = Bitmap::from_coverage(60, 30, cov, Some(0.5)).unwrap();
-        let mask = PaddedMask::new(&bm);
-        let image =
-            GrayImage::from_raw(mask.width as u32, mask.height as u32, mask.data.clone()).unwrap();
-        let first = find_contours::<i32>(&image)[0].points[0];
+        let mask = PaddedMask::new(&bm).unwrap();
+        let first = find_contours::<i32>(&mask.image)[0].points[0];
         let mut cracks = Vec::new();
         mask.trace((i64::from(first.x), i64::from(first.y) + 1), 3, &mut cracks);
         let mut w = Workspace::default();
