@@ -1907,22 +1907,29 @@ mod tests {
 
     #[test]
     fn bilevel_disk_is_smooth_and_close() {
-        let centre = Point::new(50.3, 49.6);
-        let radius = 40.0;
-        let cov = binary(101, 100, |x, y| Point::new(x, y).distance(centre) < radius);
-        let bm = Bitmap::from_coverage(101, 100, cov, None).unwrap();
-        assert!(bm.is_bilevel());
-        let cs = extract_contours(&bm, &opts(2.0)).unwrap();
-        assert_eq!(cs.len(), 1);
-        let pts = &cs[0].points;
-        let (max, mean) = circle_errors(pts, centre, radius);
-        let turn = turning_degrees(pts).into_iter().fold(0.0, f64::max);
-        eprintln!(
-            "bilevel disk: max {max:.3} mean {mean:.3} turn {turn:.1}° n {}",
-            pts.len()
-        );
-        assert!(max < 0.35, "max |r − R| = {max}");
-        assert!(turn < 25.0, "turn {turn}°");
+        // Three sub-pixel centres: the first puts the top of the circle 0.4 px above the
+        // first row of crack midpoints, where plain smoothing of the midpoints is 0.40 px
+        // off.
+        for centre in [
+            Point::new(50.3, 49.6),
+            Point::new(50.03, 50.0),
+            Point::new(50.73, 50.59),
+        ] {
+            let radius = 40.0;
+            let cov = binary(101, 100, |x, y| Point::new(x, y).distance(centre) < radius);
+            let bm = Bitmap::from_coverage(101, 100, cov, None).unwrap();
+            assert!(bm.is_bilevel());
+            let cs = extract_contours(&bm, &opts(2.0)).unwrap();
+            assert_eq!(cs.len(), 1);
+            let pts = &cs[0].points;
+            let (max, mean) = circle_errors(pts, centre, radius);
+            let turn = turning_degrees(pts).into_iter().fold(0.0, f64::max);
+            eprintln!("bilevel disk {centre:?}: max {max:.3} mean {mean:.3} turn {turn:.1}°");
+            // Measured: max 0.11–0.15 px, mean ≤ 0.053 px, turn ≤ 4°.
+            assert!(max < 0.3, "max |r − R| = {max}");
+            assert!(mean < 0.08, "mean |r − R| = {mean}");
+            assert!(turn < 15.0, "turn {turn}°");
+        }
     }
 
     #[test]
