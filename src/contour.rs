@@ -390,7 +390,14 @@ fn extract_with(
             mask.trace((x, y + 1), 3, &mut cracks);
         }
         let points = if bitmap.is_bilevel() {
-            work.bilevel_outline(&cracks, &mask)
+            let fitted = work.bilevel_outline(&cracks, &mask);
+            if follows_cracks(&fitted, &cracks) {
+                fitted
+            } else {
+                // The regression lost the outline (seen on some diagonal strokes): fall
+                // back to the plainly smoothed pixel-edge midpoints.
+                smoothed_cracks(&cracks)
+            }
         } else {
             work.refined_outline(bitmap, &cracks, estimator)
         };
@@ -398,6 +405,65 @@ fn extract_with(
         traced.push(contour);
     }
     Ok(renumber(traced, borders.iter().map(|b| b.parent).collect()))
+}
+
+/// Largest distance (px) a bilevel outline point may lie from the nearest pixel-edge
+/// midpoint: the midpoints are 1 px apart, and a faithful outline stays within half a pixel
+/// of the pixel boundary.
+const CRACK_FIDELITY: f64 = 1.25;
+
+/// True when every point of `points` lies within [`CRACK_FIDELITY`] of a pixel-edge midpoint
+/// and the enclosed areas agree to within 0.35 px per unit of boundary length: a guard on
+/// the bilevel regression, which must never move the outline off its pixels.
+fn follows_cracks(points: &[Point], cracks: &[Crack]) -> bool {
+    if points.len() < 3 || cracks.len() < 3 {
+        return false;
+    }
+    let mids: Vec<Point> = cracks.iter().map(|c| c.mid).collect();
+    let length = mids.len() as f64;
+    if (signed_area(points).abs() - signed_area(&mids).abs()).abs() > 0.35 * length {
+        return false;
+    }
+    // Spatial hash of the midpoints on a 2 px grid.
+    let cell = |p: Point| ((p.x / 2.0).floor() as i64, (p.y / 2.0).floor() as i64);
+    let mut grid: std::collections::HashMap<(i64, i64), Vec<Point>> =
+        std::collections::HashMap::new();
+    for &m in &mids {
+        grid.entry(cell(m)).or_default().push(m);
+    }
+    points.iter().all(|&p| {
+        let (cx, cy) = cell(p);
+        let mut best = f64::INFINITY;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(v) = grid.get(&(cx + dx, cy + dy)) {
+                    for &m in v {
+                        best = best.min(m.distance(p));
+                    }
+                }
+            }
+        }
+        best <= CRACK_FIDELITY
+    })
+}
+
+/// Pixel-edge midpoints smoothed by three passes of the closed [1, 2, 1]/4 filter: a robust
+/// bilevel outline (corners slightly rounded, later sharpened by the break finder where
+/// their sides are straight).
+fn smoothed_cracks(cracks: &[Crack]) -> Vec<Point> {
+    let mut pts: Vec<Point> = cracks.iter().map(|c| c.mid).collect();
+    let n = pts.len();
+    if n < 3 {
+        return pts;
+    }
+    let mut next = pts.clone();
+    for _ in 0..3 {
+        for i in 0..n {
+            next[i] = (pts[(i + n - 1) % n] + pts[i] * 2.0 + pts[(i + 1) % n]) * 0.25;
+        }
+        std::mem::swap(&mut pts, &mut next);
+    }
+    pts
 }
 
 /// Orients a finished outline and applies the size rules; `None` when it is dropped.
