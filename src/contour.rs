@@ -2427,4 +2427,89 @@ mod tests {
         assert!(we < 0.05, "weighted side line off by {we}");
         assert!(we < pe, "weighted {we} vs plain {pe}");
     }
+
+    /// Bilevel diagonal strokes (a "V"): the outline keeps the shape's area.
+    #[test]
+    fn bilevel_diagonal_strokes_keep_their_area() {
+        let poly = [
+            Point::new(20.0, 10.0),
+            Point::new(40.0, 10.0),
+            Point::new(60.0, 70.0),
+            Point::new(80.0, 10.0),
+            Point::new(100.0, 10.0),
+            Point::new(70.0, 100.0),
+            Point::new(50.0, 100.0),
+        ];
+        let inside = |p: Point| {
+            let mut c = false;
+            for k in 0..poly.len() {
+                let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+                if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x)
+                {
+                    c = !c;
+                }
+            }
+            c
+        };
+        let (w, h) = (120u32, 110u32);
+        let cov: Vec<f32> = (0..h)
+            .flat_map(|r| (0..w).map(move |c| (c, r)))
+            .map(|(c, r)| {
+                if inside(Point::new(c as f64 + 0.5, r as f64 + 0.5)) {
+                    1.0
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let pixels = cov.iter().filter(|&&v| v > 0.5).count() as f64;
+        let bm = Bitmap::from_coverage(w, h, cov, Some(0.5)).unwrap();
+        assert!(bm.is_bilevel());
+        let cs = extract_contours(&bm, &ContourOptions { min_area: 2.0 }).unwrap();
+        assert_eq!(cs.len(), 1);
+        let area = signed_area(&cs[0].points);
+        assert!(
+            (area - pixels).abs() < 0.01 * pixels,
+            "area {area} vs {pixels} pixels"
+        );
+    }
+
+    /// The guard of the bilevel regression accepts outlines on the pixel boundary and
+    /// rejects ones that leave it (shifted, or cutting a corner off).
+    #[test]
+    fn crack_guard_rejects_outlines_off_the_pixels() {
+        // Pixel-edge midpoints of a 10 × 10 square of pixels at (5, 5).
+        let mut cracks = Vec::new();
+        let mut push = |x: f64, y: f64, nx: f64, ny: f64| {
+            cracks.push(Crack {
+                inside: (0, 0),
+                mid: Point::new(x, y),
+                normal: Point::new(nx, ny),
+            })
+        };
+        for i in 0..10 {
+            push(5.5 + i as f64, 5.0, 0.0, -1.0);
+        }
+        for i in 0..10 {
+            push(15.0, 5.5 + i as f64, 1.0, 0.0);
+        }
+        for i in 0..10 {
+            push(14.5 - i as f64, 15.0, 0.0, 1.0);
+        }
+        for i in 0..10 {
+            push(5.0, 14.5 - i as f64, -1.0, 0.0);
+        }
+        let smooth = smoothed_cracks(&cracks);
+        assert!(follows_cracks(&smooth, &cracks));
+        let shifted: Vec<Point> = smooth.iter().map(|&p| p + Point::new(2.0, 0.0)).collect();
+        assert!(!follows_cracks(&shifted, &cracks));
+        // A chord across a quarter of the square keeps every point near a midpoint of
+        // the far sides but loses a large area.
+        let cut: Vec<Point> = cracks
+            .iter()
+            .map(|c| c.mid)
+            .filter(|m| m.x + m.y > 15.0)
+            .collect();
+        assert!(!follows_cracks(&cut, &cracks));
+    }
 }
