@@ -11,19 +11,8 @@ use outlinefit::fit::paper::{fit_contour, PaperOptions};
 use outlinefit::fit::solve::{optimum_at_fixed_params, EndCondition};
 use outlinefit::optim::HarmonySearch;
 use outlinefit::param::centripetal_parameters;
-use outlinefit::{trace_file, Config, FittedContour, Point};
+use outlinefit::{trace_file, Config, Point};
 use std::time::Instant;
-
-fn run_points(c: &FittedContour, k: usize) -> Vec<Point> {
-    let s = &c.segments[k];
-    if s.end > s.start {
-        c.points[s.start..=s.end].to_vec()
-    } else {
-        let mut v = c.points[s.start..].to_vec();
-        v.extend_from_slice(&c.points[..=s.end]);
-        v
-    }
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let budget: u64 = std::env::args()
@@ -50,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (mut free, mut g1, mut segs) = (0.0, 0.0, 0);
         for c in &traced.contours {
             for k in 0..c.segments.len() {
-                let pts = run_points(c, k);
+                let pts = c.segment_points(k);
                 let params = centripetal_parameters(&pts);
                 free +=
                     optimum_at_fixed_params(&pts, &params, EndCondition::Free, EndCondition::Free)

@@ -87,7 +87,7 @@ pub struct SegmentedContour {
 }
 
 /// Arc-length positions of a closed polygon: `s[i]` for each point and the total length.
-fn arc_lengths(points: &[Point]) -> (Vec<f64>, f64) {
+pub fn arc_lengths(points: &[Point]) -> (Vec<f64>, f64) {
     let n = points.len();
     let mut s = Vec::with_capacity(n);
     let mut acc = 0.0;

@@ -15,7 +15,7 @@
 
 use super::solve::{fit_segment, segment_error, EndCondition, FitSettings, SegmentSolution};
 use super::{FittedContour, FittedSegment, Joint, JointKind};
-use crate::breaks::SegmentedContour;
+use crate::breaks::{arc_lengths, SegmentedContour};
 use crate::curve::approximate_with_cubics;
 use crate::export::svg::SvgOptions;
 use crate::geom::{angle_between, Point};
@@ -78,7 +78,7 @@ struct Piece {
 }
 
 /// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
-fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Point>) {
+pub fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Point>) {
     out.clear();
     if b > a {
         out.extend_from_slice(&points[a..=b]);
@@ -321,17 +321,8 @@ fn assemble(
     opts: &LsqOptions,
 ) -> FittedContour {
     let points = &seg.points;
-    let n = points.len();
     let m = joints.len();
-    let (arc, _) = {
-        let mut s = Vec::with_capacity(n);
-        let mut acc = 0.0;
-        for i in 0..n {
-            s.push(acc);
-            acc += points[i].distance(points[(i + 1) % n]);
-        }
-        (s, acc)
-    };
+    let (arc, _) = arc_lengths(points);
     let mut buf = Vec::new();
     let segments: Vec<FittedSegment> = pieces
         .into_iter()

@@ -105,6 +105,19 @@ impl FittedContour {
             .fold(0.0, f64::max)
     }
 
+    /// The data points of segment `k`, from its start joint to its end joint, into `out`.
+    pub fn segment_points_into(&self, k: usize, out: &mut Vec<Point>) {
+        let s = &self.segments[k];
+        lsq::cyclic_run(&self.points, s.start, s.end, out);
+    }
+
+    /// The data points of segment `k`, from its start joint to its end joint.
+    pub fn segment_points(&self, k: usize) -> Vec<Point> {
+        let mut out = Vec::new();
+        self.segment_points_into(k, &mut out);
+        out
+    }
+
     /// Sum of Eq. 4 errors over all segments.
     pub fn sum_sq(&self) -> f64 {
         self.segments.iter().map(|s| s.error.sum_sq).sum()

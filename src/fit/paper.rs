@@ -211,13 +211,7 @@ pub fn fit_contour(
         for k in (0..m).filter(|&k| group(k) == g) {
             let started = Instant::now();
             let seg = &base.segments[k];
-            run.clear();
-            if seg.end > seg.start {
-                run.extend_from_slice(&points[seg.start..=seg.end]);
-            } else {
-                run.extend_from_slice(&points[seg.start..]);
-                run.extend_from_slice(&points[..=seg.end]);
-            }
+            base.segment_points_into(k, &mut run);
             let params = centripetal_parameters(&run);
             let prev = (k + m - 1) % m;
             let next = (k + 1) % m;
@@ -342,7 +336,7 @@ mod tests {
             .enumerate()
             .filter(|(k, _)| k % 2 == 0 && *k + 1 < a.segments.len())
         {
-            let run = run_of(&base, k);
+            let run = base.segment_points(k);
             let (_, optimum) =
                 optimum_at_fixed_params(&run, &s.params, EndCondition::Free, EndCondition::Free);
             assert!(
@@ -366,17 +360,6 @@ mod tests {
             more.sum_sq(),
             a.sum_sq()
         );
-    }
-
-    fn run_of(c: &FittedContour, k: usize) -> Vec<Point> {
-        let s = &c.segments[k];
-        if s.end > s.start {
-            c.points[s.start..=s.end].to_vec()
-        } else {
-            let mut v = c.points[s.start..].to_vec();
-            v.extend_from_slice(&c.points[..=s.end]);
-            v
-        }
     }
 
     #[test]
