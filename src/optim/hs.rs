@@ -11,7 +11,7 @@
 //! bounds. The new harmony replaces the worst one in memory if it is better. The budget
 //! counts objective evaluations, the HMS initial harmonies included.
 
-use super::{Optimizer, Outcome, Problem, SeededRng};
+use super::{random_point, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Harmony search parameters.
@@ -50,44 +50,24 @@ impl Optimizer for HarmonySearch {
         rng: &mut SeededRng,
         record_history: bool,
     ) -> Outcome {
-        let dim = problem.dim();
+        let mut tracker = Tracker::new(problem, budget, record_history);
+        let dim = tracker.dim();
+        let bounds = tracker.bounds().to_vec();
         let hms = self.hms.max(1);
-        let bounds: Vec<(f64, f64)> = (0..dim).map(|i| problem.bounds(i)).collect();
-        let mut history = Vec::new();
-        let mut best_so_far = f64::INFINITY;
-        let mut evaluations = 0u64;
-        let mut record = |v: f64, history: &mut Vec<f64>| {
-            best_so_far = best_so_far.min(v);
-            if record_history {
-                history.push(best_so_far);
-            }
-        };
-        let uniform = |rng: &mut SeededRng, (lo, hi): (f64, f64)| {
-            if hi > lo {
-                rng.random_range(lo..=hi)
-            } else {
-                lo
-            }
-        };
         // Harmony memory: rows of `dim` values, with their objective values.
         let mut memory: Vec<f64> = Vec::with_capacity(hms * dim);
         let mut values: Vec<f64> = Vec::with_capacity(hms);
+        let mut candidate = vec![0.0; dim];
         for _ in 0..hms {
-            if evaluations >= budget && !values.is_empty() {
+            random_point(rng, &bounds, &mut candidate);
+            let Some(v) = tracker.evaluate(&candidate) else {
                 break;
-            }
-            let start = memory.len();
-            for &b in &bounds {
-                memory.push(uniform(rng, b));
-            }
-            let v = problem.evaluate(&memory[start..]);
-            evaluations += 1;
-            record(v, &mut history);
+            };
+            memory.extend_from_slice(&candidate);
             values.push(v);
         }
         let rows = values.len();
-        let mut candidate = vec![0.0; dim];
-        while evaluations < budget {
+        while !tracker.exhausted() {
             for (i, &(lo, hi)) in bounds.iter().enumerate() {
                 let x = if rng.random::<f64>() < self.hmcr {
                     let r = rng.random_range(0..rows);
@@ -101,9 +81,9 @@ impl Optimizer for HarmonySearch {
                 };
                 candidate[i] = x;
             }
-            let v = problem.evaluate(&candidate);
-            evaluations += 1;
-            record(v, &mut history);
+            let Some(v) = tracker.evaluate(&candidate) else {
+                break;
+            };
             let worst = (0..rows)
                 .max_by(|&a, &b| values[a].total_cmp(&values[b]))
                 .unwrap_or(0);
@@ -112,15 +92,7 @@ impl Optimizer for HarmonySearch {
                 memory[worst * dim..(worst + 1) * dim].copy_from_slice(&candidate);
             }
         }
-        let best = (0..rows)
-            .min_by(|&a, &b| values[a].total_cmp(&values[b]))
-            .unwrap_or(0);
-        Outcome {
-            best: memory[best * dim..(best + 1) * dim].to_vec(),
-            value: values.get(best).copied().unwrap_or(f64::INFINITY),
-            evaluations,
-            history,
-        }
+        tracker.into_outcome()
     }
 }
 
