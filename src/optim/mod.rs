@@ -15,8 +15,10 @@
 //! Shared machinery: [`Tracker`] counts evaluations against the budget, keeps the best
 //! point and the history, so every algorithm stops at exactly its budget.
 
+mod gwo;
 mod hs;
 
+pub use gwo::GreyWolf;
 pub use hs::HarmonySearch;
 
 use rand::RngExt;
@@ -25,12 +27,13 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs"];
+pub const NAMES: &[&str] = &["hs", "gwo"];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
     Some(match name {
         "hs" => Box::new(HarmonySearch::default()),
+        "gwo" => Box::new(GreyWolf::default()),
         _ => return None,
     })
 }
