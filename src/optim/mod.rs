@@ -15,9 +15,11 @@
 //! Shared machinery: [`Tracker`] counts evaluations against the budget, keeps the best
 //! point and the history, so every algorithm stops at exactly its budget.
 
+mod cs;
 mod gwo;
 mod hs;
 
+pub use cs::CuckooSearch;
 pub use gwo::GreyWolf;
 pub use hs::HarmonySearch;
 
@@ -27,13 +29,15 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs", "gwo"];
+pub const NAMES: &[&str] = &["hs", "gwo", "cs", "ics"];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
     Some(match name {
         "hs" => Box::new(HarmonySearch::default()),
         "gwo" => Box::new(GreyWolf::default()),
+        "cs" => Box::new(CuckooSearch::default()),
+        "ics" => Box::new(CuckooSearch::improved()),
         _ => return None,
     })
 }
