@@ -16,10 +16,12 @@
 //! point and the history, so every algorithm stops at exactly its budget.
 
 mod cs;
+mod fwa;
 mod gwo;
 mod hs;
 
 pub use cs::CuckooSearch;
+pub use fwa::Fireworks;
 pub use gwo::GreyWolf;
 pub use hs::HarmonySearch;
 
@@ -29,7 +31,7 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs", "gwo", "cs", "ics"];
+pub const NAMES: &[&str] = &["hs", "gwo", "cs", "ics", "fwa"];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
@@ -38,6 +40,7 @@ pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
         "gwo" => Box::new(GreyWolf::default()),
         "cs" => Box::new(CuckooSearch::default()),
         "ics" => Box::new(CuckooSearch::improved()),
+        "fwa" => Box::new(Fireworks::default()),
         _ => return None,
     })
 }
