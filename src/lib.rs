@@ -30,6 +30,7 @@ pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};
 pub use crate::curve::{CubicBez, RationalCubic};
 pub use crate::error::{Error, Result};
+pub use crate::fit::meta::Search;
 pub use crate::fit::{FittedContour, FittedSegment, Joint, JointKind, SegmentError};
 pub use crate::geom::Point;
 pub use crate::raster::{Bitmap, RasterOptions};
@@ -40,18 +41,6 @@ use std::time::Instant;
 
 /// The version of this crate, recorded in reports.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
-
-/// How segments are fitted.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
-#[serde(rename_all = "lowercase")]
-pub enum Strategy {
-    /// Separable least squares with exact G1 joints, error-driven splitting and merging.
-    #[default]
-    Lsq,
-    /// The HS paper's scheme: harmony search over C1, C2, w1, w2 in the box of Eq. 9,
-    /// odd segments free, even segments constrained for G1 (§6.1–6.3).
-    Hs,
-}
 
 /// Every parameter of a trace. `Config::default()` gives the documented defaults.
 #[derive(Clone, Debug, Serialize)]
@@ -72,13 +61,20 @@ pub struct Config {
     /// Largest allowed distance (px) from a data point to its fitted curve, for `lsq`.
     /// Default: 0.3.
     pub tolerance: f64,
-    /// The fitting strategy. Default: `lsq`.
-    pub strategy: Strategy,
-    /// Harmony-search improvisations per segment (`hs` only). Default: 5000.
+    /// How segments are fitted: `lsq` (separable least squares with error-driven splitting,
+    /// the default) or the name of a metaheuristic of [`optim::NAMES`], which refits the
+    /// `lsq` segmentation at fixed centripetal parameters.
+    pub optimizer: String,
+    /// What a metaheuristic searches: `weights` (default; control points by least squares)
+    /// or `full` (the HS paper's C1, C2, w1, w2).
+    pub search: Search,
+    /// Objective evaluations per segment for a metaheuristic. Default: 5000.
     pub budget: u64,
-    /// Scale of the `hs` control-point search box: 1 is the paper's box of Eq. 9 (the
+    /// Scale of the `full` search's control-point box: 1 is the paper's box of Eq. 9 (the
     /// extent of each segment's data), larger values widen it. Default: 1.
     pub search_box_scale: f64,
+    /// Keep each segment's best-so-far history (metaheuristics only). Default: false.
+    pub history: bool,
     /// Seed of every random choice. Default: 1.
     pub seed: u64,
     /// Record wall times in the result (they are the only non-reproducible numbers).
@@ -95,9 +91,11 @@ impl Default for Config {
             min_area: 2.0,
             corner_angle: 50.0,
             tolerance: 0.3,
-            strategy: Strategy::Lsq,
+            optimizer: "lsq".to_string(),
+            search: Search::Weights,
             budget: 5000,
             search_box_scale: 1.0,
+            history: false,
             seed: 1,
             timings: true,
         }
@@ -128,6 +126,16 @@ impl Config {
         }
         if !(self.search_box_scale.is_finite() && self.search_box_scale >= 1.0) {
             return bad("--search-box-scale", "must be a number ≥ 1");
+        }
+        if self.optimizer != "lsq" && optim::by_name(&self.optimizer).is_none() {
+            return bad(
+                "--optimizer",
+                &format!(
+                    "unknown optimizer `{}` (expected lsq or one of {})",
+                    self.optimizer,
+                    optim::NAMES.join(", ")
+                ),
+            );
         }
         if self.budget == 0 {
             return bad("--budget", "must be at least 1");
@@ -218,19 +226,18 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     }
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
     let lsq_options = fit::lsq::LsqOptions::new(config);
-    let fitted: Vec<FittedContour> = contours
+    let meta_options = (config.optimizer != "lsq").then(|| fit::meta::MetaOptions::new(config));
+    let fitted = contours
         .iter()
         .enumerate()
         .map(|(i, c)| {
             let chain = fit::lsq::fit_contour(&find_breaks(c, &break_options), &lsq_options);
-            match config.strategy {
-                Strategy::Lsq => chain,
-                Strategy::Hs => {
-                    fit::paper::fit_contour(&chain, &fit::paper::PaperOptions::new(config), i)
-                }
+            match &meta_options {
+                None => Ok(chain),
+                Some(opts) => fit::meta::fit_contour(&chain, opts, i),
             }
         })
-        .collect();
+        .collect::<Result<Vec<FittedContour>>>()?;
     let seconds = if config.timings {
         started.elapsed().as_secs_f64()
     } else {

@@ -4,7 +4,8 @@ mod batch;
 mod trace;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use outlinefit::{Config, Strategy};
+use clap::builder::PossibleValuesParser;
+use outlinefit::{Config, Search};
 use std::path::PathBuf;
 
 /// Trace bitmap outlines into G1-continuous rational cubic Bézier curves, with a
@@ -25,13 +26,30 @@ enum Command {
     Batch(batch::BatchArgs),
 }
 
-/// The fitting strategy, as named on the command line.
+/// What a metaheuristic searches, as named on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
-enum OptimizerName {
-    /// Separable least squares with exact G1 joints (default).
-    Lsq,
-    /// Harmony search over C1, C2, w1, w2 as in the HS paper.
-    Hs,
+enum SearchArg {
+    /// The HS paper's formulation: C1, C2, w1, w2 (odd segments free, even ones
+    /// constrained for G1).
+    Full,
+    /// Only the weights w1, w2; control points by least squares (separable, exact G1).
+    Weights,
+}
+
+impl From<SearchArg> for Search {
+    fn from(s: SearchArg) -> Search {
+        match s {
+            SearchArg::Full => Search::Full,
+            SearchArg::Weights => Search::Weights,
+        }
+    }
+}
+
+/// `lsq` and every metaheuristic's name, for `--optimizer`.
+fn optimizer_names() -> PossibleValuesParser {
+    PossibleValuesParser::new(
+        std::iter::once("lsq").chain(outlinefit::optim::NAMES.iter().copied()),
+    )
 }
 
 /// Options shared by `trace` and `batch`: every parameter of the pipeline.
@@ -58,16 +76,28 @@ struct FitArgs {
     /// Refuse images with more pixels than this (protects memory).
     #[arg(long, default_value_t = 50_000_000, value_name = "N")]
     max_pixels: u64,
-    /// Fitting method: lsq (default) or hs (the harmony-search paper's scheme).
-    #[arg(long, value_enum, default_value_t = OptimizerName::Lsq)]
-    optimizer: OptimizerName,
-    /// Objective evaluations per segment for metaheuristic optimizers (hs).
+    /// Fitting method. `lsq` (default): separable least squares with error-driven
+    /// splitting. Any other name refits the lsq segmentation with that metaheuristic at
+    /// fixed centripetal parameters: hs (harmony search), ga (genetic algorithm), pso
+    /// (particle swarm), gwo (grey wolf), cs / ics (cuckoo search, improved), fwa
+    /// (fireworks), so / beeso (snake optimizer, enhanced), de (differential evolution).
+    #[arg(long, default_value = "lsq", value_name = "NAME", value_parser = optimizer_names())]
+    optimizer: String,
+    /// What a metaheuristic searches: `weights` (w1, w2; control points by least squares,
+    /// reaches the optimum) or `full` (the HS paper's C1, C2, w1, w2).
+    #[arg(long, value_enum, default_value_t = SearchArg::Weights)]
+    search: SearchArg,
+    /// Objective evaluations per segment for a metaheuristic.
     #[arg(long, default_value_t = 5000, value_name = "N")]
     budget: u64,
-    /// Widen the hs control-point search box by this factor (1 = the paper's box of Eq. 9,
-    /// the extent of each segment's data, which can exclude the optimum).
+    /// Widen the `full` search's control-point box by this factor (1 = the paper's box of
+    /// Eq. 9, the extent of each segment's data, which can exclude the optimum).
     #[arg(long, default_value_t = 1.0, value_name = "S")]
     search_box_scale: f64,
+    /// Record each segment's best-so-far error after every evaluation in the JSON report
+    /// (metaheuristics only; large).
+    #[arg(long)]
+    history: bool,
     /// Seed of every random choice; the same seed gives the same output on any number of
     /// threads.
     #[arg(long, default_value_t = 1)]
@@ -86,12 +116,11 @@ impl FitArgs {
             min_area: self.min_area,
             corner_angle: self.corner_angle,
             tolerance: self.tolerance,
-            strategy: match self.optimizer {
-                OptimizerName::Lsq => Strategy::Lsq,
-                OptimizerName::Hs => Strategy::Hs,
-            },
+            optimizer: self.optimizer.clone(),
+            search: self.search.into(),
             budget: self.budget,
             search_box_scale: self.search_box_scale,
+            history: self.history,
             seed: self.seed,
             timings: !self.no_timings,
         }

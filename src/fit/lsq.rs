@@ -348,6 +348,7 @@ fn assemble(
                 evaluations: piece.solution.evaluations,
                 seconds,
                 on_search_boundary: None,
+                history: Vec::new(),
             }
         })
         .collect();

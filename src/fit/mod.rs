@@ -5,6 +5,7 @@
 //! (the harmony-search scheme of the HS paper, §6).
 
 pub mod lsq;
+pub mod meta;
 pub mod paper;
 pub mod solve;
 
@@ -74,10 +75,14 @@ pub struct FittedSegment {
     pub evaluations: u64,
     /// Wall time spent fitting this segment, in seconds (0 when timing is off).
     pub seconds: f64,
-    /// `hs` only: true when the best point found lies on the boundary of the search box
-    /// (Eq. 9 of the HS paper), a sign that the box may exclude the optimum.
+    /// Metaheuristic fits only: true when the best point found lies on the boundary of the
+    /// search box (Eq. 9 of the HS paper for `full` search, the weight range for `weights`),
+    /// a sign that the box may exclude the optimum.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub on_search_boundary: Option<bool>,
+    /// Metaheuristic fits with history on: the best objective value after each evaluation.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub history: Vec<f64>,
 }
 
 /// A closed contour fitted by a closed chain of segments.

@@ -1,4 +1,4 @@
-//! The HS paper's fitting scheme (§6.1–6.3): a metaheuristic searches the control points
+//! The HS paper's fitting scheme (§6.1–6.3, `--search full`): a metaheuristic searches the control points
 //! C1, C2 and the weights w1, w2 of each segment directly, minimising the Eq. 4 error at
 //! fixed centripetal parameters.
 //!
@@ -13,49 +13,16 @@
 //!
 //! The paper's weight range starts at 0; 0.01 is used instead because a zero weight makes
 //! the end derivative vanish and the joint tangent undefined. The segmentation is the one
-//! the `lsq` strategy found, so both strategies can be compared on the same segments.
+//! the `lsq` fit found (see [`super::meta`]).
 
-use super::lsq::joint_report;
-use super::solve::segment_error;
+use super::meta::{finish_segment, on_boundary, rebuild, run_optimizer, MetaOptions};
 use super::{FittedContour, FittedSegment};
 use crate::curve::rational::{bernstein, RationalCubic};
 use crate::fit::JointKind;
 use crate::geom::Point;
-use crate::optim::{HarmonySearch, Optimizer, Problem, SeededRng};
+use crate::optim::{Optimizer, Problem};
 use crate::param::centripetal_parameters;
-use crate::Config;
-use rand::SeedableRng;
 use std::time::Instant;
-
-/// Options of the paper's scheme.
-#[derive(Clone, Debug)]
-pub struct PaperOptions {
-    /// Objective evaluations per segment.
-    pub budget: u64,
-    /// Base seed; each segment's generator is derived from it and the segment's position,
-    /// so results do not depend on thread count or order.
-    pub seed: u64,
-    /// The optimizer's parameters.
-    pub hs: HarmonySearch,
-    /// Record wall times.
-    pub timings: bool,
-    /// Scale of the control-point search box: 1 is the paper's box (the data's extent,
-    /// Eq. 9); larger values widen it around the data.
-    pub box_scale: f64,
-}
-
-impl PaperOptions {
-    /// The options a [`Config`] implies.
-    pub fn new(config: &Config) -> Self {
-        PaperOptions {
-            budget: config.budget,
-            seed: config.seed,
-            hs: HarmonySearch::default(),
-            timings: config.timings,
-            box_scale: config.search_box_scale,
-        }
-    }
-}
 
 /// How one end of a segment is searched.
 #[derive(Clone, Copy, Debug)]
@@ -77,6 +44,12 @@ pub struct SegmentProblem<'a> {
 }
 
 impl<'a> SegmentProblem<'a> {
+    /// The problem of a free (odd) segment of the paper's scheme: C1 and C2 range over the
+    /// data's bounding box (Eq. 9), w1 and w2 over [0.01, 2]; `params` are fixed.
+    pub fn free(points: &'a [Point], params: &[f64]) -> Self {
+        Self::new(points, params, Side::Free, Side::Free, 2.0, 1.0)
+    }
+
     fn new(
         points: &'a [Point],
         params: &[f64],
@@ -118,7 +91,7 @@ impl<'a> SegmentProblem<'a> {
     }
 
     /// The curve a point of the search space stands for.
-    fn curve(&self, x: &[f64]) -> RationalCubic {
+    pub fn curve(&self, x: &[f64]) -> RationalCubic {
         let c0 = self.points[0];
         let c3 = self.points[self.points.len() - 1];
         let mut k = 0;
@@ -136,14 +109,6 @@ impl<'a> SegmentProblem<'a> {
         let c2 = inner(self.end, c3);
         let n = x.len();
         RationalCubic::new([c0, c1, c2, c3], [x[n - 2], x[n - 1]])
-    }
-
-    /// True when some variable of `x` sits on a bound of the box.
-    fn on_boundary(&self, x: &[f64]) -> bool {
-        x.iter().zip(&self.bounds).any(|(v, (lo, hi))| {
-            let eps = 1e-9 * (hi - lo).abs().max(1e-12);
-            (v - lo).abs() <= eps || (hi - v).abs() <= eps
-        })
     }
 }
 
@@ -175,27 +140,18 @@ impl Problem for SegmentProblem<'_> {
     }
 }
 
-/// Per-segment seed: a SplitMix64 mix of the base seed, contour and segment index.
-fn segment_seed(seed: u64, contour: usize, segment: usize) -> u64 {
-    let mut z =
-        seed ^ ((contour as u64) << 32 | segment as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
 /// Refits every segment of `base` (whose segmentation and joint kinds are kept) with the
-/// paper's scheme. `contour_index` feeds the per-segment seeds.
-pub fn fit_contour(
+/// paper's scheme and `optimizer`. `contour_index` feeds the per-segment seeds.
+pub(super) fn fit_contour(
     base: &FittedContour,
-    opts: &PaperOptions,
+    optimizer: &dyn Optimizer,
+    opts: &MetaOptions,
     contour_index: usize,
 ) -> FittedContour {
     let m = base.segments.len();
     if m == 0 {
         return base.clone();
     }
-    let points = &base.points;
     // Fitting order: group 0 = free (even indices, except the last when m is odd), group 1 =
     // the odd indices, group 2 = the last segment when m is odd.
     let group = |k: usize| {
@@ -210,7 +166,6 @@ pub fn fit_contour(
     for g in 0..3 {
         for k in (0..m).filter(|&k| group(k) == g) {
             let started = Instant::now();
-            let seg = &base.segments[k];
             base.segment_points_into(k, &mut run);
             let params = centripetal_parameters(&run);
             let prev = (k + m - 1) % m;
@@ -226,26 +181,12 @@ pub fn fit_contour(
             let max_weight = if g == 0 { 2.0 } else { 2.5 };
             let problem =
                 SegmentProblem::new(&run, &params, start, end, max_weight, opts.box_scale);
-            let mut rng = SeededRng::seed_from_u64(segment_seed(opts.seed, contour_index, k));
-            let outcome = opts.hs.minimize(&problem, opts.budget, &mut rng, false);
+            let outcome = run_optimizer(optimizer, &problem, opts, contour_index, k);
             let curve = problem.curve(&outcome.best);
-            let error = segment_error(&curve, &run, &params);
-            fitted[k] = Some(FittedSegment {
-                curve,
-                start: seg.start,
-                end: seg.end,
-                point_count: run.len(),
-                params,
-                arc_range: seg.arc_range,
-                error,
-                evaluations: outcome.evaluations,
-                seconds: if opts.timings {
-                    started.elapsed().as_secs_f64()
-                } else {
-                    0.0
-                },
-                on_search_boundary: Some(problem.on_boundary(&outcome.best)),
-            });
+            let on_box = on_boundary(&problem, &outcome.best);
+            fitted[k] = Some(finish_segment(
+                base, k, curve, &run, params, outcome, on_box, started, opts,
+            ));
         }
     }
     let segments: Vec<FittedSegment> = fitted
@@ -253,18 +194,7 @@ pub fn fit_contour(
         .zip(&base.segments)
         .map(|(f, b)| f.unwrap_or_else(|| b.clone()))
         .collect();
-    let joints = joint_report(
-        &segments,
-        base.joints.iter().map(|j| (j.index, j.kind)),
-        points,
-    );
-    FittedContour {
-        points: points.clone(),
-        is_hole: base.is_hole,
-        parent: base.parent,
-        segments,
-        joints,
-    }
+    rebuild(base, segments)
 }
 
 /// A ray side along the direction of `d`, or a free side if `d` is degenerate.
@@ -311,20 +241,23 @@ mod tests {
     #[test]
     fn every_smooth_joint_is_g1_and_runs_are_reproducible() {
         let base = blob();
-        let opts = PaperOptions {
+        let opts = MetaOptions {
+            optimizer: "hs".into(),
+            search: crate::fit::meta::Search::Full,
             budget: 3000,
             seed: 5,
-            hs: HarmonySearch::default(),
             timings: false,
             box_scale: 1.0,
+            history: false,
         };
-        let a = fit_contour(&base, &opts, 0);
+        let hs = crate::optim::HarmonySearch::default();
+        let a = fit_contour(&base, &hs, &opts, 0);
         for j in &a.joints {
             if j.kind == JointKind::Smooth {
                 assert!(j.angle < 1e-9, "angle {}", j.angle);
             }
         }
-        let b = fit_contour(&base, &opts, 0);
+        let b = fit_contour(&base, &hs, &opts, 0);
         for (x, y) in a.segments.iter().zip(&b.segments) {
             assert_eq!(x.curve, y.curve);
         }
@@ -348,7 +281,8 @@ mod tests {
         }
         let more = fit_contour(
             &base,
-            &PaperOptions {
+            &hs,
+            &MetaOptions {
                 budget: 30_000,
                 ..opts
             },
