@@ -9,7 +9,7 @@
 
 use crate::fit::{FittedContour, JointKind};
 use crate::geom::Point;
-use crate::{Config, Strategy, TraceResult, VERSION};
+use crate::{Config, Search, TraceResult, VERSION};
 use serde::Serialize;
 
 /// Totals over one traced image.
@@ -79,7 +79,9 @@ impl Summary {
 #[derive(Serialize)]
 struct SegmentRow<'a> {
     index: usize,
-    optimizer: Strategy,
+    optimizer: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    search: Option<Search>,
     point_count: usize,
     start: usize,
     end: usize,
@@ -97,6 +99,8 @@ struct SegmentRow<'a> {
     on_search_boundary: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     params: Option<&'a [f64]>,
+    #[serde(skip_serializing_if = "<[f64]>::is_empty")]
+    history: &'a [f64],
 }
 
 #[derive(Serialize)]
@@ -138,12 +142,13 @@ fn xy(p: Point) -> [f64; 2] {
     [p.x, p.y]
 }
 
-fn contour_row(
+fn contour_row<'a>(
     index: usize,
-    c: &FittedContour,
-    strategy: Strategy,
+    c: &'a FittedContour,
+    config: &'a Config,
     with_params: bool,
-) -> ContourRow<'_> {
+) -> ContourRow<'a> {
+    let search = (config.optimizer != "lsq").then_some(config.search);
     ContourRow {
         index,
         is_hole: c.is_hole,
@@ -162,7 +167,8 @@ fn contour_row(
                     });
                 SegmentRow {
                     index: k,
-                    optimizer: strategy,
+                    optimizer: &config.optimizer,
+                    search,
                     point_count: s.point_count,
                     start: s.start,
                     end: s.end,
@@ -178,6 +184,7 @@ fn contour_row(
                     seconds: s.seconds,
                     on_search_boundary: s.on_search_boundary,
                     params: with_params.then_some(s.params.as_slice()),
+                    history: &s.history,
                 }
             })
             .collect(),
@@ -212,7 +219,7 @@ pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bo
                     .contours
                     .iter()
                     .enumerate()
-                    .map(|(i, c)| contour_row(i, c, config.strategy, with_params))
+                    .map(|(i, c)| contour_row(i, c, config, with_params))
                     .collect(),
             })
             .collect(),
@@ -268,7 +275,7 @@ pub fn to_csv(config: &Config, images: &[(&str, &TraceResult)]) -> String {
                     ci.to_string(),
                     c.is_hole.to_string(),
                     k.to_string(),
-                    format!("{:?}", config.strategy).to_lowercase(),
+                    config.optimizer.clone(),
                     s.point_count.to_string(),
                     s.start.to_string(),
                     s.end.to_string(),
