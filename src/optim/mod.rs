@@ -20,12 +20,14 @@ mod fwa;
 mod ga;
 mod gwo;
 mod hs;
+mod pso;
 
 pub use cs::CuckooSearch;
 pub use fwa::Fireworks;
 pub use ga::GeneticAlgorithm;
 pub use gwo::GreyWolf;
 pub use hs::HarmonySearch;
+pub use pso::ParticleSwarm;
 
 use rand::RngExt;
 
@@ -33,13 +35,14 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs", "ga", "gwo", "cs", "ics", "fwa"];
+pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa"];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
     Some(match name {
         "hs" => Box::new(HarmonySearch::default()),
         "ga" => Box::new(GeneticAlgorithm::default()),
+        "pso" => Box::new(ParticleSwarm::default()),
         "gwo" => Box::new(GreyWolf::default()),
         "cs" => Box::new(CuckooSearch::default()),
         "ics" => Box::new(CuckooSearch::improved()),
