@@ -16,6 +16,7 @@
 //! point and the history, so every algorithm stops at exactly its budget.
 
 mod cs;
+mod de;
 mod fwa;
 mod ga;
 mod gwo;
@@ -23,6 +24,7 @@ mod hs;
 mod pso;
 
 pub use cs::CuckooSearch;
+pub use de::DifferentialEvolution;
 pub use fwa::Fireworks;
 pub use ga::GeneticAlgorithm;
 pub use gwo::GreyWolf;
@@ -35,7 +37,7 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa"];
+pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "de"];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
@@ -47,6 +49,7 @@ pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
         "cs" => Box::new(CuckooSearch::default()),
         "ics" => Box::new(CuckooSearch::improved()),
         "fwa" => Box::new(Fireworks::default()),
+        "de" => Box::new(DifferentialEvolution::default()),
         _ => return None,
     })
 }
