@@ -22,6 +22,7 @@ mod ga;
 mod gwo;
 mod hs;
 mod pso;
+mod so;
 
 pub use cs::CuckooSearch;
 pub use de::DifferentialEvolution;
@@ -30,6 +31,7 @@ pub use ga::GeneticAlgorithm;
 pub use gwo::GreyWolf;
 pub use hs::HarmonySearch;
 pub use pso::ParticleSwarm;
+pub use so::SnakeOptimizer;
 
 use rand::RngExt;
 
@@ -37,7 +39,7 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "de"];
+pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "so", "de"];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
@@ -49,6 +51,7 @@ pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
         "cs" => Box::new(CuckooSearch::default()),
         "ics" => Box::new(CuckooSearch::improved()),
         "fwa" => Box::new(Fireworks::default()),
+        "so" => Box::new(SnakeOptimizer::default()),
         "de" => Box::new(DifferentialEvolution::default()),
         _ => return None,
     })
