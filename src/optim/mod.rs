@@ -15,6 +15,7 @@
 //! Shared machinery: [`Tracker`] counts evaluations against the budget, keeps the best
 //! point and the history, so every algorithm stops at exactly its budget.
 
+mod beeso;
 mod cs;
 mod de;
 mod fwa;
@@ -24,6 +25,7 @@ mod hs;
 mod pso;
 mod so;
 
+pub use beeso::Beeso;
 pub use cs::CuckooSearch;
 pub use de::DifferentialEvolution;
 pub use fwa::Fireworks;
@@ -39,7 +41,7 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "so", "de"];
+pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "so", "beeso", "de"];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
@@ -52,6 +54,7 @@ pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
         "ics" => Box::new(CuckooSearch::improved()),
         "fwa" => Box::new(Fireworks::default()),
         "so" => Box::new(SnakeOptimizer::default()),
+        "beeso" => Box::new(Beeso::default()),
         "de" => Box::new(DifferentialEvolution::default()),
         _ => return None,
     })
