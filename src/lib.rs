@@ -25,6 +25,7 @@ pub mod optim;
 pub mod param;
 pub mod raster;
 pub mod report;
+pub mod stats;
 
 pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};
