@@ -23,6 +23,7 @@ pub mod geom;
 pub mod io;
 pub mod optim;
 pub mod param;
+pub mod plot;
 pub mod raster;
 pub mod report;
 pub mod stats;
