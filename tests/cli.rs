@@ -168,6 +168,14 @@ fn same_seed_gives_identical_outputs_on_one_and_two_threads() {
     for extra in [
         &[][..],
         &["--optimizer", "hs", "--budget", "300", "--seed", "42"][..],
+        &[
+            "--optimizer",
+            "beeso",
+            "--search",
+            "full",
+            "--budget",
+            "300",
+        ][..],
     ] {
         let one = dir.join("one");
         let two = dir.join("two");
@@ -254,4 +262,81 @@ fn batch_reports_failures_and_converts_the_rest() {
         "{summary}"
     );
     assert_eq!(again.status.code(), Some(1));
+}
+
+#[test]
+fn report_records_optimizer_search_space_and_history() {
+    let dir = scratch("history");
+    let report = dir.join("r.json");
+    let out = bin()
+        .arg("trace")
+        .arg(common::samples_dir().join("pear.png"))
+        .arg("-o")
+        .arg(dir.join("p.svg"))
+        .arg("--report")
+        .arg(&report)
+        .args([
+            "--optimizer",
+            "de",
+            "--budget",
+            "250",
+            "--history",
+            "--no-timings",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(json["config"]["optimizer"], "de");
+    assert_eq!(json["config"]["search"], "weights");
+    assert_eq!(json["config"]["budget"], 250);
+    let segments = json["images"][0]["contours"][0]["segments"]
+        .as_array()
+        .unwrap();
+    assert!(segments.len() > 5);
+    for s in segments {
+        assert_eq!(s["optimizer"], "de");
+        assert_eq!(s["search"], "weights");
+        assert_eq!(s["evaluations"], 250);
+        let h: Vec<f64> = s["history"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(h.len(), 250);
+        assert!(h.windows(2).all(|w| w[1] <= w[0]));
+        // The history ends at the segment's reported Eq. 4 error (the objective's one-pass
+        // quadratic form loses a few digits on near-exact segments).
+        let e = s["sum_sq"].as_f64().unwrap();
+        assert!(
+            (h[249] - e).abs() <= 1e-6 * e + 1e-9,
+            "{} vs {e}",
+            h[249]
+        );
+    }
+    // Without --history the report has none; lsq has neither search nor history.
+    let out = bin()
+        .arg("trace")
+        .arg(common::samples_dir().join("pear.png"))
+        .arg("-o")
+        .arg(dir.join("p.svg"))
+        .arg("--report")
+        .arg(&report)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let s = &json["images"][0]["contours"][0]["segments"][0];
+    assert_eq!(s["optimizer"], "lsq");
+    assert!(
+        s.get("search").is_none() && s.get("history").is_none(),
+        "{s}"
+    );
 }

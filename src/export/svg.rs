@@ -304,7 +304,7 @@ pub(crate) mod tests {
             evaluations: 0,
             seconds: 0.0,
             on_search_boundary: None,
-                history: Vec::new(),
+            history: Vec::new(),
         }
     }
 

@@ -165,7 +165,17 @@ fn fit_weights(
             let outcome = run_optimizer(optimizer, &problem, opts, contour_index, k);
             let (curve, _) = problem.curve(&outcome.best);
             let on_boundary = WeightsProblem::on_weight_bound(&outcome.best);
-            finish_segment(base, k, curve, &run, params, outcome, on_boundary, started, opts)
+            finish_segment(
+                base,
+                k,
+                curve,
+                &run,
+                params,
+                outcome,
+                on_boundary,
+                started,
+                opts,
+            )
         })
         .collect();
     rebuild(base, segments)

@@ -41,7 +41,9 @@ use rand::RngExt;
 pub type SeededRng = rand_chacha::ChaCha8Rng;
 
 /// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &["hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "so", "beeso", "de"];
+pub const NAMES: &[&str] = &[
+    "hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "so", "beeso", "de",
+];
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
