@@ -69,6 +69,14 @@ pub enum Error {
         /// What is wrong with it.
         message: String,
     },
+    /// A chart could not be drawn.
+    #[error("cannot draw {what}: {message}")]
+    Plot {
+        /// The chart.
+        what: String,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 /// Shorthand for results whose error is [`Error`].

@@ -14,6 +14,7 @@
 //! [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`].
 
 pub mod breaks;
+pub mod compare;
 pub mod contour;
 pub mod curve;
 pub mod error;

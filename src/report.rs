@@ -234,7 +234,6 @@ pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bo
 
 /// The CSV report: a header and one row per segment.
 pub fn to_csv(config: &Config, images: &[(&str, &TraceResult)]) -> String {
-    let mut w = csv::Writer::from_writer(Vec::new());
     let header = [
         "image",
         "contour",
@@ -301,19 +300,23 @@ pub fn to_csv(config: &Config, images: &[(&str, &TraceResult)]) -> String {
             }
         }
     }
-    let mut out = String::new();
+    csv_document(&header, &rows)
+}
+
+/// A CSV document from a header and rows of fields (quoted where needed), ending in a
+/// newline. Writing CSV into memory cannot fail.
+pub fn csv_document(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
     let result = (|| -> csv::Result<()> {
         w.write_record(header)?;
-        for r in &rows {
+        for r in rows {
             w.write_record(r)?;
         }
         w.flush()?;
         Ok(())
     })();
-    if result.is_ok() {
-        if let Ok(bytes) = w.into_inner() {
-            out = String::from_utf8_lossy(&bytes).into_owned();
-        }
+    match (result, w.into_inner()) {
+        (Ok(()), Ok(bytes)) => String::from_utf8_lossy(&bytes).into_owned(),
+        _ => String::new(),
     }
-    out
 }

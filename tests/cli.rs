@@ -314,11 +314,7 @@ fn report_records_optimizer_search_space_and_history() {
         // The history ends at the segment's reported Eq. 4 error (the objective's one-pass
         // quadratic form loses a few digits on near-exact segments).
         let e = s["sum_sq"].as_f64().unwrap();
-        assert!(
-            (h[249] - e).abs() <= 1e-6 * e + 1e-9,
-            "{} vs {e}",
-            h[249]
-        );
+        assert!((h[249] - e).abs() <= 1e-6 * e + 1e-9, "{} vs {e}", h[249]);
     }
     // Without --history the report has none; lsq has neither search nor history.
     let out = bin()

@@ -1,10 +1,11 @@
 //! Command definitions (clap derive) and dispatch.
 
 mod batch;
+mod compare;
 mod trace;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
 use clap::builder::PossibleValuesParser;
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use outlinefit::{Config, Search};
 use std::path::PathBuf;
 
@@ -24,6 +25,9 @@ enum Command {
     /// Trace every image of a folder in parallel into OUTDIR/<name>.svg and <name>.json,
     /// with OUTDIR/summary.csv.
     Batch(batch::BatchArgs),
+    /// Compare optimizers on the same segmentation of one or more images: many seeded runs
+    /// each, descriptive statistics, normality, F-, t-tests and ANOVA, charts.
+    Compare(compare::CompareArgs),
 }
 
 /// What a metaheuristic searches, as named on the command line.
@@ -52,9 +56,10 @@ fn optimizer_names() -> PossibleValuesParser {
     )
 }
 
-/// Options shared by `trace` and `batch`: every parameter of the pipeline.
+/// How outlines are found and segmented: options shared by `trace`, `batch` and
+/// `compare`.
 #[derive(Args, Debug, Clone)]
-struct FitArgs {
+struct ShapeArgs {
     /// Largest distance (px) allowed between a data point and its curve (lsq).
     /// 0.3 px sits well above the ~0.05 px noise of sub-pixel edges, and on the development
     /// corpus it beats potrace's area error by 2.8× (64 px glyphs) to 3.3× (256 px) with
@@ -76,6 +81,28 @@ struct FitArgs {
     /// Refuse images with more pixels than this (protects memory).
     #[arg(long, default_value_t = 50_000_000, value_name = "N")]
     max_pixels: u64,
+}
+
+impl ShapeArgs {
+    /// The default configuration with these tracing settings.
+    fn config(&self) -> Config {
+        Config {
+            threshold: self.threshold,
+            invert: self.invert,
+            max_pixels: self.max_pixels,
+            min_area: self.min_area,
+            corner_angle: self.corner_angle,
+            tolerance: self.tolerance,
+            ..Config::default()
+        }
+    }
+}
+
+/// Options shared by `trace` and `batch`: every parameter of the pipeline.
+#[derive(Args, Debug, Clone)]
+struct FitArgs {
+    #[command(flatten)]
+    shape: ShapeArgs,
     /// Fitting method. `lsq` (default): separable least squares with error-driven
     /// splitting. Any other name refits the lsq segmentation with that metaheuristic at
     /// fixed centripetal parameters: hs (harmony search), ga (genetic algorithm), pso
@@ -110,12 +137,6 @@ struct FitArgs {
 impl FitArgs {
     fn config(&self) -> Config {
         Config {
-            threshold: self.threshold,
-            invert: self.invert,
-            max_pixels: self.max_pixels,
-            min_area: self.min_area,
-            corner_angle: self.corner_angle,
-            tolerance: self.tolerance,
             optimizer: self.optimizer.clone(),
             search: self.search.into(),
             budget: self.budget,
@@ -123,6 +144,7 @@ impl FitArgs {
             history: self.history,
             seed: self.seed,
             timings: !self.no_timings,
+            ..self.shape.config()
         }
     }
 }
@@ -133,6 +155,7 @@ pub(crate) fn run() -> anyhow::Result<i32> {
     match cli.command {
         Command::Trace(args) => trace::run(&args),
         Command::Batch(args) => batch::run(&args),
+        Command::Compare(args) => compare::run(&args),
     }
 }
 

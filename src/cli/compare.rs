@@ -1,0 +1,123 @@
+//! `outlinefit compare`: optimizers side by side on the same segmentation, with statistics.
+
+use super::{SearchArg, ShapeArgs};
+use anyhow::{bail, Context};
+use clap::builder::PossibleValuesParser;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use outlinefit::compare::{compare_image, image_stems, output, statistics, CompareOptions};
+use std::path::PathBuf;
+
+/// Arguments of `compare`.
+#[derive(Args, Debug)]
+pub(crate) struct CompareArgs {
+    /// Images to compare on; each is traced once with lsq and its segments are refitted by
+    /// every optimizer.
+    #[arg(required = true, value_name = "IMAGE")]
+    images: Vec<PathBuf>,
+    /// Output folder (created if missing): summary.md, summary.csv, segments.csv,
+    /// stats.json and <image>-{convergence,boxplot,segments}.svg.
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    output: PathBuf,
+    /// Optimizers to compare, comma-separated (default: all). The separable least-squares
+    /// optimum (lsq) is always the reference row.
+    #[arg(long, value_delimiter = ',', value_name = "NAMES", value_parser = optimizer_list())]
+    optimizers: Vec<String>,
+    /// Independent runs per optimizer (the HS paper used 30).
+    #[arg(long, default_value_t = 30, value_name = "N")]
+    runs: usize,
+    /// Objective evaluations per segment and run, the same for every optimizer.
+    #[arg(long, default_value_t = 5000, value_name = "N")]
+    budget: u64,
+    /// Search space: `weights` (w1, w2 with control points by least squares) or `full`
+    /// (the HS paper's C1, C2, w1, w2, as in its experiments).
+    #[arg(long, value_enum, default_value_t = SearchArg::Weights)]
+    search: SearchArg,
+    /// Widen the `full` search's control-point box by this factor (1 = the paper's Eq. 9).
+    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    search_box_scale: f64,
+    /// Base seed; run r of every optimizer uses the same seed derived from it, so the same
+    /// seed gives the same numbers on any number of threads.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Points kept per convergence curve (evenly spaced evaluation counts).
+    #[arg(long, default_value_t = 200, value_name = "N")]
+    history_points: usize,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
+    #[command(flatten)]
+    shape: ShapeArgs,
+}
+
+/// The metaheuristics' names and `lsq` (accepted and ignored: it is always the reference).
+fn optimizer_list() -> PossibleValuesParser {
+    PossibleValuesParser::new(
+        std::iter::once("lsq").chain(outlinefit::optim::NAMES.iter().copied()),
+    )
+}
+
+pub(crate) fn run(args: &CompareArgs) -> anyhow::Result<i32> {
+    let mut optimizers: Vec<String> = Vec::new();
+    let requested: Vec<&str> = if args.optimizers.is_empty() {
+        outlinefit::optim::NAMES.to_vec()
+    } else {
+        args.optimizers.iter().map(String::as_str).collect()
+    };
+    for name in requested {
+        if name != "lsq" && !optimizers.iter().any(|o| o == name) {
+            optimizers.push(name.to_string());
+        }
+    }
+    let opts = CompareOptions {
+        optimizers,
+        runs: args.runs,
+        budget: args.budget,
+        search: args.search.into(),
+        seed: args.seed,
+        search_box_scale: args.search_box_scale,
+        history_points: args.history_points,
+        trace: outlinefit::Config {
+            timings: false,
+            ..args.shape.config()
+        },
+    };
+    opts.validate()?;
+    for image in &args.images {
+        if !image.is_file() {
+            bail!("{} is not a file", image.display());
+        }
+    }
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs.unwrap_or(0))
+        .build()?;
+    let total = (args.images.len() * opts.optimizers.len() * opts.runs) as u64;
+    let bar = ProgressBar::new(total);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} runs {elapsed_precise} eta {eta} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut images = Vec::with_capacity(args.images.len());
+    for path in &args.images {
+        bar.set_message(path.display().to_string());
+        let tick = || bar.inc(1);
+        let image = pool
+            .install(|| compare_image(path, &opts, &tick))
+            .with_context(|| format!("{}", path.display()))?;
+        images.push(image);
+    }
+    bar.finish_and_clear();
+    let stats: Vec<_> = images.iter().map(statistics).collect();
+    let stems = image_stems(&args.images);
+    output::write_all(&args.output, &opts, &images, &stats, &stems)?;
+    eprintln!(
+        "{} optimizers × {} runs on {} image(s); report in {}",
+        opts.optimizers.len(),
+        opts.runs,
+        images.len(),
+        args.output.join("summary.md").display()
+    );
+    Ok(0)
+}
