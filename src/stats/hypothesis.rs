@@ -143,7 +143,10 @@ pub fn welch_t(a: &[f64], b: &[f64]) -> Result<TTest, StatsError> {
     let df = se2 * se2 / (vna * vna / (na - 1.0) + vnb * vnb / (nb - 1.0));
     let t = (mean_a - mean_b) / se2.sqrt();
     check_overflow(WHAT, &[df, t])?;
-    let dist = StudentsT::new(0.0, 1.0, df).expect("Welch df is positive and finite");
+    // df is positive and finite here; a failure would be an overflow of the inputs.
+    let Ok(dist) = StudentsT::new(0.0, 1.0, df) else {
+        return Err(StatsError::Overflow { what: WHAT });
+    };
     let p_less = dist.cdf(t);
     let p_greater = dist.sf(t);
     let p_one_tail = dist.sf(t.abs());
@@ -259,16 +262,14 @@ fn f_sf(f: f64, d1: f64, d2: f64) -> f64 {
     beta_reg(d2 / 2.0, d1 / 2.0, d2 / (d1 * f + d2))
 }
 
-/// The p quantile of F(d1, d2).
+/// The p quantile of F(d1, d2) (NaN if the degrees of freedom are not positive, which the
+/// callers rule out).
 fn f_ppf(p: f64, d1: f64, d2: f64) -> f64 {
-    FisherSnedecor::new(d1, d2)
-        .expect("F degrees of freedom are positive")
-        .inverse_cdf(p)
+    FisherSnedecor::new(d1, d2).map_or(f64::NAN, |d| d.inverse_cdf(p))
 }
 
-/// The p quantile of Student's t with df degrees of freedom.
+/// The p quantile of Student's t with df degrees of freedom (NaN if df is not positive,
+/// which the callers rule out).
 fn t_ppf(p: f64, df: f64) -> f64 {
-    StudentsT::new(0.0, 1.0, df)
-        .expect("t degrees of freedom are positive")
-        .inverse_cdf(p)
+    StudentsT::new(0.0, 1.0, df).map_or(f64::NAN, |d| d.inverse_cdf(p))
 }
