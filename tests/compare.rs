@@ -226,6 +226,22 @@ fn command_writes_every_output_and_rejects_bad_options() {
         );
         assert!(!dir.exists(), "nothing is written on bad options");
     }
+    // An unreadable image: one line naming it once, and no output folder.
+    let bad = std::env::temp_dir().join(format!("outlinefit-bad-{}.png", std::process::id()));
+    std::fs::write(&bad, b"not an image").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_outlinefit"))
+        .arg("compare")
+        .arg(&bad)
+        .args(["--runs", "2", "--budget", "10", "-o"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert_eq!(stderr.matches("outlinefit-bad-").count(), 1, "{stderr}");
+    assert!(!dir.exists(), "nothing is written when an image fails");
+    let _ = std::fs::remove_file(&bad);
     let out = Command::new(env!("CARGO_BIN_EXE_outlinefit"))
         .args(["compare", "samples/s.png", "--optimizers", "nope", "-o"])
         .arg(&dir)

@@ -88,8 +88,9 @@ pub(crate) fn run(args: &CompareArgs) -> anyhow::Result<i32> {
             bail!("{} is not a file", image.display());
         }
     }
-    std::fs::create_dir_all(&args.output)
-        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    if args.output.exists() && !args.output.is_dir() {
+        bail!("{} exists and is not a folder", args.output.display());
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs.unwrap_or(0))
         .build()?;
@@ -103,12 +104,14 @@ pub(crate) fn run(args: &CompareArgs) -> anyhow::Result<i32> {
     for path in &args.images {
         bar.set_message(path.display().to_string());
         let tick = || bar.inc(1);
-        let image = pool
-            .install(|| compare_image(path, &opts, &tick))
-            .with_context(|| format!("{}", path.display()))?;
+        // Library errors name the file already.
+        let image = pool.install(|| compare_image(path, &opts, &tick))?;
         images.push(image);
     }
     bar.finish_and_clear();
+    // The folder is made only now, so a failed comparison leaves nothing behind.
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("cannot create {}", args.output.display()))?;
     let stats: Vec<_> = images.iter().map(statistics).collect();
     let stems = image_stems(&args.images);
     output::write_all(&args.output, &opts, &images, &stats, &stems)?;
