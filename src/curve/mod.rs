@@ -4,6 +4,7 @@
 pub mod cubic;
 pub mod rational;
 pub mod sg_bezier;
+pub mod wang_ball;
 
 pub use cubic::{approximate_with_cubics, CubicBez};
 pub use rational::{bernstein, rational_basis, RationalCubic};
