@@ -25,6 +25,7 @@ pub mod io;
 pub mod optim;
 pub mod param;
 pub mod plot;
+pub mod quad;
 pub mod raster;
 pub mod report;
 pub mod stats;

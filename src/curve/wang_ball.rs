@@ -535,7 +535,7 @@ impl DiskWangBall {
         // (this keeps (near-)degenerate curves from bisecting to the depth limit).
         let p0 = c.points[0];
         let span = c.points.iter().map(|p| p.distance(p0)).fold(0.0, f64::max);
-        adaptive_gauss_legendre(&f, 0.0, 1.0, 1e-2 * span)
+        crate::quad::adaptive(&f, 0.0, 1.0, 1e-2 * span)
     }
 }
 
@@ -550,76 +550,6 @@ pub fn merge_lambda(a: &DiskWangBall, b: &DiskWangBall) -> f64 {
         la / total
     } else {
         0.5
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// Quadrature.
-
-const GL_ORDER: usize = 16;
-
-/// Gauss–Legendre nodes and weights on `[-1, 1]` (Newton iteration on `P_N`).
-fn gauss_legendre_rule() -> ([f64; GL_ORDER], [f64; GL_ORDER]) {
-    let n = GL_ORDER;
-    let mut x = [0.0; GL_ORDER];
-    let mut w = [0.0; GL_ORDER];
-    for i in 0..n {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 0.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
-            let dz = p1 / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                break;
-            }
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-    (x, w)
-}
-
-fn gl_on(f: &dyn Fn(f64) -> f64, rule: &([f64; GL_ORDER], [f64; GL_ORDER]), a: f64, b: f64) -> f64 {
-    let (m, h) = (0.5 * (a + b), 0.5 * (b - a));
-    rule.0
-        .iter()
-        .zip(&rule.1)
-        .map(|(&x, &w)| w * f(m + h * x))
-        .sum::<f64>()
-        * h
-}
-
-fn adaptive_gauss_legendre(f: &dyn Fn(f64) -> f64, a: f64, b: f64, scale: f64) -> f64 {
-    let rule = gauss_legendre_rule();
-    let whole = gl_on(f, &rule, a, b);
-    let tol = 1e-14 * whole.abs().max(scale).max(f64::MIN_POSITIVE);
-    adapt(f, &rule, a, b, whole, tol, 0)
-}
-
-fn adapt(
-    f: &dyn Fn(f64) -> f64,
-    rule: &([f64; GL_ORDER], [f64; GL_ORDER]),
-    a: f64,
-    b: f64,
-    whole: f64,
-    tol: f64,
-    depth: u32,
-) -> f64 {
-    let m = 0.5 * (a + b);
-    let l = gl_on(f, rule, a, m);
-    let r = gl_on(f, rule, m, b);
-    if (l + r - whole).abs() <= tol || depth >= 20 {
-        l + r
-    } else {
-        adapt(f, rule, a, m, l, 0.5 * tol, depth + 1)
-            + adapt(f, rule, m, b, r, 0.5 * tol, depth + 1)
     }
 }
 
