@@ -70,6 +70,9 @@ pub enum Error {
         message: String,
     },
     /// A chart could not be drawn.
+    /// A data file (JSON curve description, expression …) that is readable but not valid.
+    #[error("{what}: {message}")]
+    InvalidInput { what: String, message: String },
     #[error("cannot draw {what}: {message}")]
     Plot {
         /// The chart.
