@@ -69,10 +69,16 @@ pub enum Error {
         /// What is wrong with it.
         message: String,
     },
-    /// A chart could not be drawn.
-    /// A data file (JSON curve description, expression …) that is readable but not valid.
+    /// A data file or value (JSON curve description, expression …) that is readable but
+    /// not valid.
     #[error("{what}: {message}")]
-    InvalidInput { what: String, message: String },
+    InvalidInput {
+        /// What was read, e.g. the file's path.
+        what: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// A chart could not be drawn.
     #[error("cannot draw {what}: {message}")]
     Plot {
         /// The chart.
