@@ -22,6 +22,7 @@ pub mod export;
 pub mod fit;
 pub mod geom;
 pub mod io;
+pub mod merge;
 pub mod optim;
 pub mod param;
 pub mod plot;

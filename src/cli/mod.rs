@@ -2,6 +2,7 @@
 
 mod batch;
 mod compare;
+mod merge;
 mod trace;
 
 use clap::builder::PossibleValuesParser;
@@ -28,6 +29,9 @@ enum Command {
     /// Compare optimizers on the same segmentation of one or more images: many seeded runs
     /// each, descriptive statistics, normality, F-, t-tests and ANOVA, charts.
     Compare(compare::CompareArgs),
+    /// Merge two adjacent disk Wang–Ball curves into one of a given degree, exactly (least
+    /// squares) or by a metaheuristic; prints the control disks and merging error as JSON.
+    Merge(merge::MergeArgs),
 }
 
 /// What a metaheuristic searches, as named on the command line.
@@ -156,6 +160,7 @@ pub(crate) fn run() -> anyhow::Result<i32> {
         Command::Trace(args) => trace::run(&args),
         Command::Batch(args) => batch::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Merge(args) => merge::run(&args),
     }
 }
 

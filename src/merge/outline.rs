@@ -1,0 +1,1 @@
+//! Merging runs of smooth segments of traced outlines into disk Wang–Ball curves.
