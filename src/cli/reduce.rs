@@ -1,10 +1,12 @@
 //! `outlinefit reduce`: degree reduction of an (SG-)Bézier curve, printed as JSON.
 
+use anyhow::Context;
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
 use outlinefit::curve::sg_bezier::SgShape;
 use outlinefit::reduce::{read_curve_json, reduce, reduction_svg, Constraint, ReduceOptions};
 use serde::Serialize;
+use std::io::Write;
 use std::path::PathBuf;
 
 /// Arguments of `reduce`.
@@ -149,6 +151,10 @@ pub(crate) fn run(args: &ReduceArgs) -> anyhow::Result<i32> {
         control_points: reduced.curve.points.iter().map(|p| [p.x, p.y]).collect(),
         evaluations: reduced.evaluations,
     };
-    println!("{}", serde_json::to_string_pretty(&out)?);
+    // Not println!, which panics when standard output is closed early (`| head`).
+    let mut stdout = std::io::stdout().lock();
+    writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)
+        .and_then(|()| stdout.flush())
+        .context("cannot write to standard output")?;
     Ok(0)
 }
