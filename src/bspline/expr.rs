@@ -37,7 +37,7 @@ enum Scalar {
     /// A constant (an expression without `u`, or the derivative of one).
     Const(f64),
     /// An expression whose only variable is `u`.
-    Expr(FlatEx<f64>),
+    Expr(Box<FlatEx<f64>>),
 }
 
 impl Scalar {
@@ -48,7 +48,7 @@ impl Scalar {
             // impossible there, NaN keeps the type total.
             Scalar::Const(e.eval(&[]).unwrap_or(f64::NAN))
         } else {
-            Scalar::Expr(e)
+            Scalar::Expr(Box::new(e))
         }
     }
 
