@@ -85,6 +85,11 @@ pub struct Config {
     /// Record wall times in the result (they are the only non-reproducible numbers).
     /// Default: true.
     pub timings: bool,
+    /// After fitting, merge runs of smooth segments into disk Wang–Ball curves within
+    /// `tolerance` ([`merge::outline`]). Default: false.
+    pub merge: bool,
+    /// Degree of merged curves, 3 to [`merge::MAX_DEGREE`]. Default: 5.
+    pub merge_degree: usize,
 }
 
 impl Default for Config {
@@ -103,6 +108,8 @@ impl Default for Config {
             history: false,
             seed: 1,
             timings: true,
+            merge: false,
+            merge_degree: 5,
         }
     }
 }
@@ -138,6 +145,16 @@ impl Config {
         }
         if self.budget == 0 {
             return bad("--budget", "must be at least 1");
+        }
+        if !(merge::outline::MIN_OUTLINE_DEGREE..=merge::MAX_DEGREE).contains(&self.merge_degree) {
+            return Err(Error::InvalidOption {
+                name: "--merge-degree",
+                message: format!(
+                    "must be between {} and {}",
+                    merge::outline::MIN_OUTLINE_DEGREE,
+                    merge::MAX_DEGREE
+                ),
+            });
         }
         Ok(())
     }
@@ -187,6 +204,12 @@ impl TraceResult {
         self.contours.iter().map(|c| c.segments.len()).sum()
     }
 
+    /// Number of curves the SVG draws: segments not replaced by merged curves, plus the
+    /// merged curves (equal to [`TraceResult::segment_count`] without `--merge`).
+    pub fn curve_count(&self) -> usize {
+        self.contours.iter().map(FittedContour::curve_count).sum()
+    }
+
     /// Sum of Eq. 4 errors over every segment.
     pub fn sum_sq(&self) -> f64 {
         self.contours.iter().map(FittedContour::sum_sq).sum()
@@ -226,15 +249,23 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
     let lsq_options = fit::lsq::LsqOptions::new(config);
     let meta_options = (config.optimizer != "lsq").then(|| fit::meta::MetaOptions::new(config));
+    let merge_options = config.merge.then_some(merge::outline::OutlineMergeOptions {
+        degree: config.merge_degree,
+        tolerance: config.tolerance,
+    });
     let fitted = contours
         .iter()
         .enumerate()
         .map(|(i, c)| {
             let chain = fit::lsq::fit_contour(&find_breaks(c, &break_options), &lsq_options);
-            match &meta_options {
-                None => Ok(chain),
-                Some(opts) => fit::meta::fit_contour(&chain, opts, i),
+            let mut fitted = match &meta_options {
+                None => chain,
+                Some(opts) => fit::meta::fit_contour(&chain, opts, i)?,
+            };
+            if let Some(opts) = &merge_options {
+                fitted.merged = merge::outline::merge_contour(&fitted, opts);
             }
+            Ok(fitted)
         })
         .collect::<Result<Vec<FittedContour>>>()?;
     let seconds = if config.timings {

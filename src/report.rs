@@ -9,6 +9,7 @@
 
 use crate::fit::{FittedContour, JointKind};
 use crate::geom::Point;
+use crate::merge::outline::MergedCurve;
 use crate::{Config, Search, TraceResult, VERSION};
 use serde::Serialize;
 
@@ -19,6 +20,11 @@ pub struct Summary {
     pub contours: usize,
     /// Number of segments.
     pub segments: usize,
+    /// Number of merged disk Wang–Ball curves (`--merge`).
+    pub merged_curves: usize,
+    /// Number of curves the SVG draws: segments not replaced by merged curves plus merged
+    /// curves (= `segments` without `--merge`).
+    pub curves: usize,
     /// Number of corner joints.
     pub corner_joints: usize,
     /// Number of smooth joints.
@@ -41,6 +47,8 @@ impl Summary {
         let mut s = Summary {
             contours: result.contours.len(),
             segments: result.segment_count(),
+            merged_curves: result.contours.iter().map(|c| c.merged.len()).sum(),
+            curves: result.curve_count(),
             corner_joints: 0,
             smooth_joints: 0,
             max_smooth_joint_angle: 0.0,
@@ -120,6 +128,8 @@ struct ContourRow<'a> {
     point_count: usize,
     segments: Vec<SegmentRow<'a>>,
     joints: Vec<JointRow>,
+    #[serde(skip_serializing_if = "<[MergedCurve]>::is_empty")]
+    merged: &'a [MergedCurve],
 }
 
 #[derive(Serialize)]
@@ -199,6 +209,7 @@ fn contour_row<'a>(
                 beta: j.beta,
             })
             .collect(),
+        merged: &c.merged,
     }
 }
 

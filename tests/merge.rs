@@ -26,7 +26,10 @@ const EXAMPLE3: &str = r#"{"curves": [
    "radii": [0.2, 0.4, 0.3, 0.2, 0.2]}]}"#;
 
 fn merge(input: &str, args: &[&str]) -> (serde_json::Value, Output) {
-    let dir = scratch(&format!("{}", args.join("_").replace(['/', '.'], "")));
+    // One folder per call: tests run in parallel and may pass the same arguments.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = scratch(&format!("call{call}"));
     let path = dir.join("in.json");
     std::fs::write(&path, input).unwrap();
     let out = bin().arg("merge").arg(&path).args(args).output().unwrap();

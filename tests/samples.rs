@@ -38,21 +38,26 @@ fn check_sample(config: &Config, min_iou: f64) {
             }
         }
         let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
-        let (w, h, truth) = common::image_coverage(&path);
-        let mut rendered = common::render_svg_coverage(&svg, w, h);
-        // A bilevel input is compared with the rendering thresholded the same way: a
-        // smooth outline cannot reproduce a staircase's all-or-nothing pixels.
-        if truth.iter().all(|&c| c == 0.0 || c == 1.0) {
-            for c in rendered.iter_mut() {
-                *c = if *c >= 0.5 { 1.0 } else { 0.0 };
-            }
-        }
-        let iou = common::coverage_iou(&rendered, &truth);
+        let iou = iou_with_input(&svg, &path);
         assert!(iou >= min_iou, "{name}: IoU {iou:.4} < {min_iou}");
         if std::env::var_os("OUTLINEFIT_SHOW_IOU").is_some() {
             eprintln!("{name}: IoU {iou:.4}");
         }
     }
+}
+
+/// IoU of an SVG's rendering with the input image's coverage.
+fn iou_with_input(svg: &str, path: &std::path::Path) -> f64 {
+    let (w, h, truth) = common::image_coverage(path);
+    let mut rendered = common::render_svg_coverage(svg, w, h);
+    // A bilevel input is compared with the rendering thresholded the same way: a
+    // smooth outline cannot reproduce a staircase's all-or-nothing pixels.
+    if truth.iter().all(|&c| c == 0.0 || c == 1.0) {
+        for c in rendered.iter_mut() {
+            *c = if *c >= 0.5 { 1.0 } else { 0.0 };
+        }
+    }
+    common::coverage_iou(&rendered, &truth)
 }
 
 #[test]
@@ -133,4 +138,107 @@ fn hs_weights_search_reaches_the_least_squares_optimum_on_every_segment() {
         failures.join("\n")
     );
     assert!(checked > 50, "only {checked} segments");
+}
+
+#[test]
+fn merged_outlines_stay_within_tolerance_render_back_and_stay_g1() {
+    use outlinefit::curve::wang_ball::WangBall;
+    let config = Config {
+        timings: false,
+        merge: true,
+        ..Config::default()
+    };
+    let plain = Config {
+        merge: false,
+        ..config.clone()
+    };
+    // The shape is unchanged (IoU as for plain lsq) ...
+    check_sample(&config, 0.98);
+    let mut removed = 0;
+    for path in common::sample_paths() {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        let r = trace_file(&path, &config).unwrap();
+        let base = trace_file(&path, &plain).unwrap();
+        // ... and merging only adds the merged curves to the same fit.
+        assert_eq!(r.segment_count(), base.segment_count(), "{name}");
+        removed += r.segment_count() - r.curve_count();
+        // Merged curves are as faithful to the input as the segments they replace (both
+        // are within the tolerance of the same data; measured differences ≤ 0.001).
+        let options = SvgOptions::for_tolerance(config.tolerance);
+        let merged_iou = iou_with_input(&to_svg(&r, &options), &path);
+        let plain_iou = iou_with_input(&to_svg(&base, &options), &path);
+        assert!(
+            merged_iou >= plain_iou - 0.002,
+            "{name}: IoU {merged_iou} merged, {plain_iou} plain"
+        );
+        for c in &r.contours {
+            let n = c.segments.len();
+            for m in &c.merged {
+                assert!(
+                    m.segment_count >= 2 && m.max_distance <= config.tolerance,
+                    "{name}"
+                );
+                let center = WangBall::new(
+                    m.disks
+                        .iter()
+                        .map(|d| outlinefit::Point::new(d.x, d.y))
+                        .collect(),
+                );
+                let disks = m.curve();
+                // Every data point of the run is within tolerance of the center curve (dense
+                // nearest-sample search, independent of the fit's own projection) and
+                // inside the error band at its nearest parameter (to the sampling step).
+                let samples: Vec<(f64, outlinefit::Point)> = (0..=4000)
+                    .map(|i| {
+                        let t = i as f64 / 4000.0;
+                        (t, center.eval(t))
+                    })
+                    .collect();
+                for k in 0..m.segment_count {
+                    for p in c.segment_points((m.first_segment + k) % n) {
+                        let (t, d) = samples
+                            .iter()
+                            .map(|&(t, q)| (t, q.distance(p)))
+                            .min_by(|a, b| a.1.total_cmp(&b.1))
+                            .unwrap();
+                        assert!(d <= config.tolerance + 1e-3, "{name}: {d}");
+                        assert!(
+                            d <= disks.radius(t) + 2e-3,
+                            "{name}: {d} > R {}",
+                            disks.radius(t)
+                        );
+                    }
+                }
+                // The run's ends are the joints, and where a joint is smooth the merged
+                // curve leaves and arrives along the joint's tangent (G1 with its
+                // neighbours).
+                let first = &c.segments[m.first_segment];
+                let last = &c.segments[(m.first_segment + m.segment_count - 1) % n];
+                let cubics = m.center_cubics(0.02);
+                let (c0, c1) = (cubics[0].points, cubics[cubics.len() - 1].points);
+                assert!(c0[0].distance(first.curve.points[0]) < 1e-9, "{name}");
+                assert!(c1[3].distance(last.curve.points[3]) < 1e-9, "{name}");
+                let angle =
+                    |a: outlinefit::Point, b: outlinefit::Point| a.cross(b).atan2(a.dot(b)).abs();
+                if c.joints[m.first_segment].kind == JointKind::Smooth {
+                    let a = angle(c0[1] - c0[0], first.curve.start_derivative());
+                    assert!(a < 1e-6, "{name}: start angle {a}");
+                }
+                if c.joints[(m.first_segment + m.segment_count) % n].kind == JointKind::Smooth {
+                    let a = angle(c1[3] - c1[2], last.curve.end_derivative());
+                    assert!(a < 1e-6, "{name}: end angle {a}");
+                }
+                // The cubic pieces meet G1.
+                for w in cubics.windows(2) {
+                    let (a, b) = (w[0].points, w[1].points);
+                    assert!(a[3].distance(b[0]) < 1e-9);
+                    assert!(angle(a[3] - a[2], b[1] - b[0]) < 1e-9, "{name}");
+                }
+            }
+        }
+    }
+    assert!(
+        removed >= 20,
+        "merging removed only {removed} curves on the samples"
+    );
 }

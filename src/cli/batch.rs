@@ -75,6 +75,7 @@ struct Row {
     status: &'static str,
     message: String,
     segments: usize,
+    curves: usize,
     sum_sq: f64,
     max_distance: f64,
     seconds: f64,
@@ -189,6 +190,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
         status: "ok",
         message: String::new(),
         segments: 0,
+        curves: 0,
         sum_sq: 0.0,
         max_distance: 0.0,
         seconds: 0.0,
@@ -217,6 +219,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
     match outcome {
         Ok(result) => {
             row.segments = result.segment_count();
+            row.curves = result.curve_count();
             row.sum_sq = result.sum_sq();
             row.max_distance = result.max_distance();
             row.seconds = if config.timings {
@@ -249,6 +252,7 @@ fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
         "file",
         "status",
         "segments",
+        "curves",
         "sum_sq",
         "max_distance",
         "seconds",
@@ -259,6 +263,7 @@ fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
             r.file.clone(),
             r.status.to_string(),
             r.segments.to_string(),
+            r.curves.to_string(),
             r.sum_sq.to_string(),
             r.max_distance.to_string(),
             r.seconds.to_string(),

@@ -6,6 +6,7 @@ use clap::Args;
 use outlinefit::merge::picture::{to_svg, Layer};
 use outlinefit::merge::{input::parse_curves, MergeOptions, MergeProblem, Merged, Method};
 use serde::Serialize;
+use std::io::Write as _;
 use std::path::PathBuf;
 
 /// Arguments of `merge`.
@@ -122,6 +123,10 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<i32> {
             })
             .collect(),
     };
-    println!("{}", serde_json::to_string_pretty(&out)?);
+    // Not println!, which panics when standard output is closed early (`| head`).
+    let mut stdout = std::io::stdout().lock();
+    writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)
+        .and_then(|()| stdout.flush())
+        .context("cannot write to standard output")?;
     Ok(0)
 }

@@ -136,6 +136,15 @@ struct FitArgs {
     /// Write 0 for every time in reports, so reports are byte-identical across runs.
     #[arg(long)]
     no_timings: bool,
+    /// After fitting, merge runs of smooth segments into single disk Wang–Ball curves whose
+    /// center line stays within --tolerance of the data; the disk radii carry the fit-error
+    /// band. The SVG draws merged curves (as cubics), the report lists them, --overlay
+    /// shows their bands.
+    #[arg(long)]
+    merge: bool,
+    /// Degree of merged curves (3–20).
+    #[arg(long, default_value_t = 5, value_name = "N")]
+    merge_degree: usize,
 }
 
 impl FitArgs {
@@ -148,6 +157,8 @@ impl FitArgs {
             history: self.history,
             seed: self.seed,
             timings: !self.no_timings,
+            merge: self.merge,
+            merge_degree: self.merge_degree,
             ..self.shape.config()
         }
     }

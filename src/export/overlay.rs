@@ -12,13 +12,15 @@
 //! 2. `control-polygons`: C0–C1–C2–C3 of every segment as thin grey lines, and
 //!    `control-points`: hollow grey circles on the inner control points C1, C2 (C0 and C3
 //!    are joints and get joint markers);
-//! 3. `data-points`: the fitted data points (`FittedContour::points`) as small orange dots,
+//! 3. `merged-envelopes` (only with `--merge`): the disk envelope of every merged curve as
+//!    a translucent purple band, the error band its radii carry;
+//! 4. `data-points`: the fitted data points (`FittedContour::points`) as small orange dots,
 //!    drawn compactly as zero-length round-capped strokes (`M x y h0`);
-//! 4. `outline`: the fitted outline, a thin green stroke without fill, drawn from the same
+//! 5. `outline`: the fitted outline, a thin green stroke without fill, drawn from the same
 //!    cubic approximation as the main SVG. It lies over the dots (thinner than they are), so
 //!    that it stays visible where dense data merge into a band;
-//! 5. `smooth-joints` (blue circles) and `corners` (red squares), one marker per joint;
-//! 6. `legend`, in the top-left corner.
+//! 6. `smooth-joints` (blue circles) and `corners` (red squares), one marker per joint;
+//! 7. `legend`, in the top-left corner.
 //!
 //! The viewBox is the image in pixel units, as in the main SVG. Marker sizes and line widths
 //! are fixed fractions of the image's longer side (a "screen pixel" is 1/800 of it), and the
@@ -32,6 +34,7 @@ use super::svg::{
 };
 use crate::fit::JointKind;
 use crate::geom::Point;
+use crate::merge::picture::envelope;
 use crate::TraceResult;
 use base64::Engine as _;
 use image::ImageEncoder as _;
@@ -49,6 +52,10 @@ const POINT_COLOUR: &str = "#ff7f0e";
 const SMOOTH_COLOUR: &str = "#1f5fff";
 const CORNER_COLOUR: &str = "#e00000";
 const CONTROL_COLOUR: &str = "#808080";
+const MERGED_COLOUR: &str = "#9467bd";
+
+/// Samples along a merged curve for its envelope band.
+const ENVELOPE_SAMPLES: usize = 120;
 
 /// What [`to_overlay_svg`] draws.
 #[derive(Clone, Debug, PartialEq)]
@@ -181,6 +188,32 @@ pub fn to_overlay_svg(
         out.push_str("</g>\n");
     }
 
+    let has_merged = result.contours.iter().any(|c| !c.merged.is_empty());
+    if has_merged {
+        let _ = writeln!(
+            out,
+            "<g id=\"merged-envelopes\" fill=\"{MERGED_COLOUR}\" fill-opacity=\"0.25\" \
+             stroke=\"{MERGED_COLOUR}\" stroke-width=\"{}\">",
+            num(0.5 * unit)
+        );
+        for m in result.contours.iter().flat_map(|c| &c.merged) {
+            let env = envelope(&m.curve(), ENVELOPE_SAMPLES);
+            let upper: Vec<Point> = env.iter().flatten().map(|e| e.0).collect();
+            let lower: Vec<Point> = env.iter().flatten().map(|e| e.1).collect();
+            if upper.len() < 2 || !upper.iter().chain(&lower).all(|p| p.is_finite()) {
+                continue;
+            }
+            let mut d = String::new();
+            for (k, &p) in upper.iter().chain(lower.iter().rev()).enumerate() {
+                d.push(if k == 0 { 'M' } else { 'L' });
+                write_point(&mut d, p, precision);
+            }
+            d.push('Z');
+            let _ = writeln!(out, "<path d=\"{d}\"/>");
+        }
+        out.push_str("</g>\n");
+    }
+
     if opts.show_points {
         let _ = writeln!(
             out,
@@ -242,7 +275,7 @@ pub fn to_overlay_svg(
     out.push_str("</g>\n");
 
     if opts.show_legend {
-        write_legend(&mut out, unit, opts, precision);
+        write_legend(&mut out, unit, opts, has_merged, precision);
     }
     out.push_str("</svg>\n");
     out
@@ -272,7 +305,13 @@ fn write_square(out: &mut String, p: Point, half: f64, precision: usize) {
 
 /// The legend box in the top-left corner; its sample markers are outside the counted
 /// marker groups.
-fn write_legend(out: &mut String, unit: f64, opts: &OverlayOptions, precision: usize) {
+fn write_legend(
+    out: &mut String,
+    unit: f64,
+    opts: &OverlayOptions,
+    has_merged: bool,
+    precision: usize,
+) {
     let p = precision.max(SIZE_PRECISION);
     let n = |x: f64| {
         let mut s = String::new();
@@ -287,6 +326,9 @@ fn write_legend(out: &mut String, unit: f64, opts: &OverlayOptions, precision: u
     entries.push(("corner", "corner"));
     if opts.show_control_polygons {
         entries.push(("polygon", "control polygon"));
+    }
+    if has_merged {
+        entries.push(("band", "merged curve's error band"));
     }
     let line = 16.0 * unit;
     let (x0, y0) = (4.0 * unit, 4.0 * unit);
@@ -326,6 +368,11 @@ fn write_legend(out: &mut String, unit: f64, opts: &OverlayOptions, precision: u
                 out,
                 "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{CORNER_COLOUR}\"/>",
                 n(mid - 3.0 * unit), n(cy - 3.0 * unit), n(6.0 * unit), n(6.0 * unit)
+            ),
+            "band" => writeln!(
+                out,
+                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{MERGED_COLOUR}\" fill-opacity=\"0.25\" stroke=\"{MERGED_COLOUR}\" stroke-width=\"{}\"/>",
+                n(sx), n(cy - 3.0 * unit), n(sx2 - sx), n(6.0 * unit), n(0.5 * unit)
             ),
             _ => writeln!(
                 out,

@@ -174,31 +174,29 @@ pub(crate) fn contour_path_data(
     bound: f64,
     precision: usize,
 ) -> ContourPath {
-    let Some(first) = contour.segments.first() else {
+    if contour.segments.is_empty() {
         return ContourPath::Empty;
-    };
-    let pieces: Vec<Vec<CubicBez>> = contour
-        .segments
-        .iter()
-        .map(|s| approximate_with_cubics(&s.curve, bound))
-        .collect();
+    }
+    let pieces = drawing_pieces(contour, bound);
     let finite = contour
         .segments
         .iter()
         .all(|s| s.curve.points.iter().all(|p| p.is_finite()))
-        && pieces
-            .iter()
-            .flatten()
-            .all(|c| c.points.iter().all(|p| p.is_finite()));
+        && pieces.iter().all(|(start, cubics)| {
+            start.is_finite()
+                && cubics
+                    .iter()
+                    .all(|c| c.points.iter().all(|p| p.is_finite()))
+        });
     if !finite {
         return ContourPath::NonFinite;
     }
     let mut d = String::new();
-    let mut pen = format_point(first.curve.points[0], precision);
+    let mut pen = format_point(pieces[0].0, precision);
     d.push('M');
     d.push_str(&pen);
-    for (segment, cubics) in contour.segments.iter().zip(&pieces) {
-        let start = format_point(segment.curve.points[0], precision);
+    for (start, cubics) in &pieces {
+        let start = format_point(*start, precision);
         if start != pen {
             d.push('L');
             d.push_str(&start);
@@ -216,6 +214,42 @@ pub(crate) fn contour_path_data(
     }
     d.push('Z');
     ContourPath::Data(d)
+}
+
+/// What the SVG draws of a contour, in order: for each segment (or run of segments
+/// replaced by a merged curve, see [`crate::merge::outline`]) its start point and its
+/// polynomial cubics. A merged run that wraps past the end of the segment list makes the
+/// walk start at its first segment.
+pub(crate) fn drawing_pieces(contour: &FittedContour, bound: f64) -> Vec<(Point, Vec<CubicBez>)> {
+    let n = contour.segments.len();
+    let segment = |k: usize| {
+        let s = &contour.segments[k];
+        (s.curve.points[0], approximate_with_cubics(&s.curve, bound))
+    };
+    if contour.merged.is_empty() {
+        return (0..n).map(segment).collect();
+    }
+    let start = contour
+        .merged
+        .iter()
+        .find(|m| m.first_segment + m.segment_count > n)
+        .map_or(0, |m| m.first_segment % n);
+    let mut out = Vec::new();
+    let mut walked = 0;
+    while walked < n {
+        let k = (start + walked) % n;
+        match contour.merged.iter().find(|m| m.first_segment == k) {
+            Some(m) if m.segment_count >= 1 => {
+                out.push((contour.segments[k].curve.points[0], m.center_cubics(bound)));
+                walked += m.segment_count;
+            }
+            _ => {
+                out.push(segment(k));
+                walked += 1;
+            }
+        }
+    }
+    out
 }
 
 /// `x y` with [`write_number`].
@@ -346,6 +380,7 @@ pub(crate) mod tests {
             parent,
             segments,
             joints,
+            merged: Vec::new(),
         }
     }
 

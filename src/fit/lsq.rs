@@ -180,6 +180,7 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
             parent: seg.parent,
             segments: Vec::new(),
             joints: Vec::new(),
+            merged: Vec::new(),
         };
     }
     let mut buf = Vec::new();
@@ -359,6 +360,7 @@ fn assemble(
         parent: seg.parent,
         segments,
         joints: joints_out,
+        merged: Vec::new(),
     }
 }
 

@@ -99,6 +99,10 @@ pub struct FittedContour {
     pub segments: Vec<FittedSegment>,
     /// `joints[i]` is where `segments[i − 1]` ends and `segments[i]` starts.
     pub joints: Vec<Joint>,
+    /// Runs of segments replaced by disk Wang–Ball curves (`--merge`); empty otherwise. The
+    /// segments stay in `segments` (the report keeps them); the SVG draws these instead.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub merged: Vec<crate::merge::outline::MergedCurve>,
 }
 
 impl FittedContour {
@@ -121,6 +125,12 @@ impl FittedContour {
         let mut out = Vec::new();
         self.segment_points_into(k, &mut out);
         out
+    }
+
+    /// Number of curves drawn: segments not replaced by merged curves, plus merged curves.
+    pub fn curve_count(&self) -> usize {
+        let replaced: usize = self.merged.iter().map(|m| m.segment_count).sum();
+        self.segments.len() - replaced.min(self.segments.len()) + self.merged.len()
     }
 
     /// Sum of Eq. 4 errors over all segments.

@@ -28,7 +28,7 @@ pub fn envelope(curve: &DiskWangBall, samples: usize) -> Vec<Option<(Point, Poin
 /// The two envelope points of the circle family at one parameter.
 pub fn envelope_points(c: Point, r: f64, dc: Point, dr: f64) -> Option<(Point, Point)> {
     let s = dc.length_squared();
-    if !(s > 0.0) || dr * dr >= s {
+    if s.is_nan() || s <= 0.0 || dr * dr >= s {
         return None;
     }
     let along = c - dc * (r * dr / s);
