@@ -14,6 +14,7 @@
 //! [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`].
 
 pub mod breaks;
+pub mod bspline;
 pub mod compare;
 pub mod contour;
 pub mod curve;
@@ -28,6 +29,7 @@ pub mod param;
 pub mod plot;
 pub mod quad;
 pub mod raster;
+pub mod reduce;
 pub mod report;
 pub mod stats;
 

@@ -1,8 +1,10 @@
 //! Command definitions (clap derive) and dispatch.
 
 mod batch;
+mod bspline;
 mod compare;
 mod merge;
+mod reduce;
 mod trace;
 
 use clap::builder::PossibleValuesParser;
@@ -29,9 +31,17 @@ enum Command {
     /// Compare optimizers on the same segmentation of one or more images: many seeded runs
     /// each, descriptive statistics, normality, F-, t-tests and ANOVA, charts.
     Compare(compare::CompareArgs),
+    /// Convert a parametric curve x(u), y(u) into a B-spline: curvature feature points plus
+    /// auxiliary samples placed by the fireworks algorithm (or another optimizer); JSON on
+    /// stdout.
+    Bspline(bspline::BsplineArgs),
     /// Merge two adjacent disk Wang–Ball curves into one of a given degree, exactly (least
     /// squares) or by a metaheuristic; prints the control disks and merging error as JSON.
     Merge(merge::MergeArgs),
+    /// Reduce the degree of an (SG-)Bézier curve from n to m < n (unconstrained, C0 or C1
+    /// ends), exactly (least squares) or with a metaheuristic searching the shape
+    /// parameters; prints the reduced control points and the L2 error as JSON.
+    Reduce(reduce::ReduceArgs),
 }
 
 /// What a metaheuristic searches, as named on the command line.
@@ -171,6 +181,8 @@ pub(crate) fn run() -> anyhow::Result<i32> {
         Command::Trace(args) => trace::run(&args),
         Command::Batch(args) => batch::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Reduce(args) => reduce::run(&args),
+        Command::Bspline(args) => bspline::run(&args),
         Command::Merge(args) => merge::run(&args),
     }
 }
