@@ -102,11 +102,11 @@ impl MergedCurve {
 
     /// The center curve as polynomial cubics within `bound` (px) of it, for SVG: the exact
     /// Bézier form of the center curve, then the C1-constrained reduction to a cubic (end
-    /// points and end derivatives kept; for a cubic that leaves nothing free), halving the
-    /// parameter range where one cubic is more than `bound` away. The distance is measured
-    /// at 32 parameters per piece as `max |B(t) − H(t)|`, which bounds the geometric
-    /// distance there. Pieces meet G1 (C1 in the center curve's own parameter) because each
-    /// keeps its sub-curve's end derivatives.
+    /// points and end derivatives kept; for a cubic that leaves nothing free); where that is
+    /// more than `bound` away, the G1 cubic (end tangent directions kept, their magnitudes by
+    /// least squares); where that fails too, the parameter range is halved. The distance is
+    /// measured at 31 parameters per piece as `max |B(t) − H(t)|`, which bounds the
+    /// geometric distance there. Pieces meet G1: each keeps its sub-curve's end tangents.
     pub fn center_cubics(&self, bound: f64) -> Vec<CubicBez> {
         let centers: Vec<Point> = self.disks.iter().map(|d| Point::new(d.x, d.y)).collect();
         let bezier = wang_ball_points_to_bezier(&centers);
@@ -274,17 +274,30 @@ fn fit_run(
 /// Deepest halving of [`MergedCurve::center_cubics`] (2¹² pieces at most).
 const MAX_CUBIC_DEPTH: u32 = 12;
 
-fn cubics_into(bezier: &[Point], bound: f64, depth: u32, out: &mut Vec<CubicBez>) {
-    let cubic = c1_cubic(bezier);
-    let worst = (1..32)
+/// Largest `|B(t) − H(t)|` at 31 interior parameters.
+fn parametric_distance(bezier: &[Point], cubic: &CubicBez) -> f64 {
+    (1..32)
         .map(|i| {
             let t = i as f64 / 32.0;
             de_casteljau(bezier, t).distance(cubic.eval(t))
         })
-        .fold(0.0, f64::max);
+        .fold(0.0, f64::max)
+}
+
+fn cubics_into(bezier: &[Point], bound: f64, depth: u32, out: &mut Vec<CubicBez>) {
+    let cubic = c1_cubic(bezier);
+    let worst = parametric_distance(bezier, &cubic);
     if worst <= bound || depth >= MAX_CUBIC_DEPTH || !worst.is_finite() {
         out.push(cubic);
         return;
+    }
+    // Before halving, let the end-derivative magnitudes go (tangent directions kept, so
+    // the pieces still meet G1): often one cubic is then enough.
+    if let Some(g1) = g1_cubic(bezier) {
+        if parametric_distance(bezier, &g1) <= bound {
+            out.push(g1);
+            return;
+        }
     }
     let (left, right) = split(bezier, 0.5);
     cubics_into(&left, bound, depth + 1, out);
@@ -303,6 +316,40 @@ pub(crate) fn c1_cubic(bezier: &[Point]) -> CubicBez {
         bn - (bn - bezier[n - 1]) * k,
         bn,
     )
+}
+
+/// The cubic with the Bézier curve's end points and end tangent directions whose two
+/// tangent magnitudes minimise `Σ |B(t_k) − H(t_k)|²` over 31 interior parameters (a 2×2
+/// linear least-squares problem); `None` when a magnitude would not be positive.
+fn g1_cubic(bezier: &[Point]) -> Option<CubicBez> {
+    let n = bezier.len() - 1;
+    let (b0, bn) = (bezier[0], bezier[n]);
+    let d0 = (bezier[1] - b0).normalized()?;
+    let d1 = (bn - bezier[n - 1]).normalized()?;
+    // With P1 = b0 + a d0 and P2 = bn − b d1 the cubic is
+    // H(t) = (B₀ + B₁)(t) b0 + (B₂ + B₃)(t) bn + a B₁(t) d0 − b B₂(t) d1.
+    let (mut m00, mut m01, mut m11, mut r0, mut r1) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in 1..32 {
+        let t = i as f64 / 32.0;
+        let s = 1.0 - t;
+        let fixed = b0 * (s * s * s + 3.0 * t * s * s) + bn * (3.0 * t * t * s + t * t * t);
+        let u = d0 * (3.0 * t * s * s);
+        let v = d1 * (-3.0 * t * t * s);
+        let target = de_casteljau(bezier, t) - fixed;
+        m00 += u.dot(u);
+        m01 += u.dot(v);
+        m11 += v.dot(v);
+        r0 += u.dot(target);
+        r1 += v.dot(target);
+    }
+    let det = m00 * m11 - m01 * m01;
+    if det.abs() <= 1e-300 {
+        return None;
+    }
+    let a = (r0 * m11 - r1 * m01) / det;
+    let b = (m00 * r1 - m01 * r0) / det;
+    (a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite())
+        .then(|| CubicBez::new(b0, b0 + d0 * a, bn - d1 * b, bn))
 }
 
 /// De Casteljau subdivision at `t`.
