@@ -175,3 +175,15 @@ fn covers_counts_cyclically() {
     let covered: Vec<usize> = (0..6).filter(|&k| m.covers(k, 6)).collect();
     assert_eq!(covered, vec![0, 4, 5]);
 }
+
+#[test]
+fn c1_cubic_is_the_c1_constrained_least_squares_reduction() {
+    // For a cubic, C1 end conditions leave nothing free: the reduce module's exact
+    // C1-constrained L2 reduction must give the same control points.
+    let b = quintic();
+    let (points, _) = crate::reduce::reduce_bezier(&b, 3, crate::reduce::Constraint::C1).unwrap();
+    let ours = c1_cubic(&b);
+    for (p, q) in points.iter().zip(&ours.points) {
+        assert!(p.distance(*q) < 1e-9, "{p:?} vs {q:?}");
+    }
+}
