@@ -242,3 +242,39 @@ fn merged_outlines_stay_within_tolerance_render_back_and_stay_g1() {
         "merging removed only {removed} curves on the samples"
     );
 }
+
+#[test]
+fn overlay_shades_one_error_band_per_merged_curve() {
+    use outlinefit::export::overlay::{to_overlay_svg, OverlayOptions};
+    let path = common::samples_dir().join("pear.png");
+    let config = Config {
+        timings: false,
+        merge: true,
+        ..Config::default()
+    };
+    let r = trace_file(&path, &config).unwrap();
+    let merged: usize = r.contours.iter().map(|c| c.merged.len()).sum();
+    assert!(merged >= 2, "the pear has merged runs");
+    let svg = to_overlay_svg(&r, None, &OverlayOptions::default());
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let group = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("merged-envelopes"))
+        .expect("a merged-envelopes group");
+    assert_eq!(
+        group.children().filter(|n| n.has_tag_name("path")).count(),
+        merged
+    );
+    assert!(svg.contains("error band"), "legend entry");
+    // Without --merge there is no such group.
+    let plain = trace_file(
+        &path,
+        &Config {
+            merge: false,
+            ..config
+        },
+    )
+    .unwrap();
+    let svg = to_overlay_svg(&plain, None, &OverlayOptions::default());
+    assert!(!svg.contains("merged-envelopes"));
+}
