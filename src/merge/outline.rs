@@ -122,10 +122,15 @@ impl MergedCurve {
 }
 
 /// The merged curves of one contour, in walking order (the first may wrap past the end of
-/// the segment list). Contours with fewer than three segments are left alone.
+/// the segment list). Contours with fewer than three segments are left alone, and so is
+/// every contour when the degree is outside `MIN_OUTLINE_DEGREE..=MAX_DEGREE` or the
+/// tolerance is not a positive number ([`crate::Config::validate`] reports those).
 pub fn merge_contour(contour: &FittedContour, options: &OutlineMergeOptions) -> Vec<MergedCurve> {
     let n = contour.segments.len();
-    if n < 3 || contour.joints.len() != n {
+    let valid = (MIN_OUTLINE_DEGREE..=super::MAX_DEGREE).contains(&options.degree)
+        && options.tolerance > 0.0
+        && options.tolerance.is_finite();
+    if !valid || n < 3 || contour.joints.len() != n {
         return Vec::new();
     }
     // Start the walk at a corner if there is one: stretches then never wrap inside.
