@@ -69,12 +69,15 @@ fn example_1_prints_the_documented_fields_and_beats_the_papers_error() {
     ] {
         assert!(v.get(field).is_some(), "missing {field}: {v}");
     }
+    // Defaults: fwa, 3000 evaluations, control points fitted to the curve; the floor of
+    // the spline space is 0.0069492 (unit test in src/bspline/mod.rs).
+    assert_eq!(v["fit"], "curve");
     let dense = v["rmse_dense"].as_f64().unwrap();
     assert!(
-        dense < 0.0085,
+        (0.006949..0.00696).contains(&dense),
         "rmse_dense {dense} (paper: 0.007 on its samples)"
     );
-    assert!(v["rmse"].as_f64().unwrap() < 0.0085);
+    assert!(v["rmse"].as_f64().unwrap() < 0.0095);
     assert!(v["max_error_dense"].as_f64().unwrap() >= dense);
     assert_eq!(v["samples"].as_array().unwrap().len(), 20);
     assert_eq!(v["control_points"].as_array().unwrap().len(), 6);
@@ -85,6 +88,22 @@ fn example_1_prints_the_documented_fields_and_beats_the_papers_error() {
     for f in features {
         assert!(f["u"].is_f64() && f["kind"].is_string() && f["curvature"].is_f64());
     }
+}
+
+#[test]
+fn fit_samples_is_the_papers_least_squares_and_stays_above_the_floor() {
+    let out = bspline(&[
+        "--x", EX1_X, "--y", EX1_Y, "--range", "0,1", "--fit", "samples",
+    ]);
+    let v = json(&out);
+    assert_eq!(v["fit"], "samples");
+    let dense = v["rmse_dense"].as_f64().unwrap();
+    assert!((0.00696..0.0085).contains(&dense), "rmse_dense {dense}");
+    assert!(v["rmse"].as_f64().unwrap() < 0.0085);
+    assert_eq!(v["evaluations"], 3000);
+    let bad = bspline(&["--x", "u", "--y", "u", "--range", "0,1", "--fit", "nope"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(bad.stdout.is_empty());
 }
 
 #[test]

@@ -10,7 +10,7 @@
 
 use crate::geom::Point;
 
-/// Index `s` of the knot span [knots[s], knots[s+1]) containing `u`, for a clamped knot
+/// Index `s` of the knot span `[knots[s], knots[s+1])` containing `u`, for a clamped knot
 /// vector of `n_ctrl + order` knots; `u` at (or beyond) the last knot belongs to the last
 /// non-empty span and `u` before the first knot to the first, so every `u` gets a span.
 pub fn find_span(knots: &[f64], order: usize, n_ctrl: usize, u: f64) -> usize {

@@ -9,11 +9,19 @@
 //!    located by parabola interpolation and polished on the exact curvature).
 //! 3. [`fit`]: for a set of sample parameters (the range's ends and the feature points,
 //!    always kept, plus auxiliary samples), the knot vector by the averaging rule and the
-//!    control points by least squares; the spline parameter is u itself.
+//!    control points by least squares, against the true curve at the dense parameters
+//!    ([`FitTarget::Curve`], default) or on the samples only ([`FitTarget::Samples`], the
+//!    paper's Eq. 1); the spline parameter is u itself.
 //! 4. [`convert`]: an optimizer of [`crate::optim`] (default: the fireworks algorithm, as in
 //!    the paper) places the auxiliary samples to minimise the spline's dense RMSE against
-//!    the true curve; the report gives Eq. 1 over the samples (`rmse`) and the dense
+//!    the true curve, and a short compass search from its best point spends the last tenth
+//!    of the budget; the report gives Eq. 1 over the samples (`rmse`) and the dense
 //!    figures. Why the objective is the dense error and not Eq. 1: see [`fit`].
+//!
+//! Example 1 (20 samples, 6 control points, defaults): the dense RMSE reaches 0.0069492,
+//! the floor of any cubic spline with 6 control points in this parameterisation and
+//! 0.0000508 below the paper's 0.007; fitting the control points to the samples instead
+//! stops at about 0.0072–0.0074 (tests below).
 //! 5. [`svg`]: a picture of the curve, the samples and the spline.
 //!
 //! Interpretations of the paper (which leaves them open) are stated where they are made:
@@ -29,6 +37,7 @@ pub mod svg;
 pub use basis::BSpline;
 pub use expr::ParametricCurve;
 pub use features::{feature_points, FeatureKind, FeaturePoint};
+pub use fit::FitTarget;
 
 use crate::error::{Error, Result};
 use crate::optim::{self, SeededRng};
@@ -60,12 +69,15 @@ pub struct ConvertOptions {
     /// How the auxiliary samples are placed: a name of [`optim::NAMES`] or [`UNIFORM`]
     /// (evenly spaced fractions of the range, no search). Default: `fwa`.
     pub method: String,
-    /// Objective evaluations for the optimizer. Default: 3000.
+    /// Objective evaluations in all: the optimizer gets all but 1/[`POLISH_FRACTION`],
+    /// which a final compass search from the optimizer's best spends. Default: 3000.
     pub budget: u64,
     /// Seed of the optimizer's generator. Default: 1.
     pub seed: u64,
     /// Grid intervals for the feature-point search. Default: 1000.
     pub feature_grid: usize,
+    /// What the control points are fitted to. Default: [`FitTarget::Curve`].
+    pub fit: FitTarget,
 }
 
 impl Default for ConvertOptions {
@@ -79,6 +91,7 @@ impl Default for ConvertOptions {
             budget: 3000,
             seed: 1,
             feature_grid: features::DEFAULT_GRID,
+            fit: FitTarget::default(),
         }
     }
 }
@@ -165,9 +178,12 @@ pub struct Conversion {
     pub feature_points: Vec<FeaturePoint>,
     /// How the auxiliary samples were placed.
     pub method: String,
+    /// What the control points were fitted to.
+    pub fit: FitTarget,
     /// Seed of the optimizer.
     pub seed: u64,
-    /// Objective evaluations used (0 for `uniform` or when every sample is fixed).
+    /// Objective evaluations used, optimizer and final compass search together (at most
+    /// the budget; 0 for `uniform` or when every sample is fixed).
     pub evaluations: u64,
     /// The parameter range.
     pub range: (f64, f64),
@@ -186,6 +202,61 @@ impl Conversion {
                 .collect(),
         }
     }
+}
+
+/// The share of the budget left for the final compass search: 1/`POLISH_FRACTION` of it
+/// (300 of the default 3000 evaluations), the optimizer gets the rest.
+pub const POLISH_FRACTION: u64 = 10;
+
+/// First step of the compass search, as a fraction of the range.
+const POLISH_STEP: f64 = 0.01;
+
+/// Compass search (Kolda, Lewis & Torczon 2003) from `x` (objective `value`) with at most
+/// `budget` evaluations: each coordinate in turn is moved by ±step within [0, 1] and a move
+/// that lowers the objective is kept at once; a sweep without improvement halves the step.
+/// Stops when the budget is spent or the step falls below 1e-12. Deterministic. Returns
+/// the best point, its value and the evaluations used.
+///
+/// Why: the optimizers get close to the best knots but their last digits converge slowly
+/// (fwa's dense RMSE on Example 1 ranges 0.00695–0.00704 over seeds at 3000 evaluations);
+/// in [`FitTarget::Curve`] the objective is a smooth function of the two or three sample
+/// positions that set each knot, where a local search finishes the job.
+fn compass_polish(
+    problem: &dyn optim::Problem,
+    mut x: Vec<f64>,
+    mut value: f64,
+    budget: u64,
+) -> (Vec<f64>, f64, u64) {
+    let mut used = 0u64;
+    let mut step = POLISH_STEP;
+    while used < budget && step >= 1e-12 && !x.is_empty() {
+        let mut improved = false;
+        'sweep: for i in 0..x.len() {
+            for sign in [1.0, -1.0] {
+                if used >= budget {
+                    break 'sweep;
+                }
+                let old = x[i];
+                let moved = (old + sign * step).clamp(0.0, 1.0);
+                if moved == old {
+                    continue;
+                }
+                x[i] = moved;
+                let v = problem.evaluate(&x);
+                used += 1;
+                if v < value {
+                    value = v;
+                    improved = true;
+                    break;
+                }
+                x[i] = old;
+            }
+        }
+        if !improved {
+            step *= 0.5;
+        }
+    }
+    (x, value, used)
 }
 
 /// Converts `curve` over `options.range` into a B-spline (module docs for the method).
@@ -232,6 +303,7 @@ pub fn convert(curve: &ParametricCurve, options: &ConvertOptions) -> Result<Conv
         control_points: options.control_points,
         order: options.order,
         reference: &reference,
+        fit: options.fit,
     };
     let (best, evaluations) = if problem.aux == 0 {
         (Vec::new(), 0)
@@ -244,9 +316,11 @@ pub fn convert(curve: &ParametricCurve, options: &ConvertOptions) -> Result<Conv
             name: "--method",
             message: format!("unknown method '{}'", options.method),
         })?;
+        let polish_budget = options.budget / POLISH_FRACTION;
         let mut rng = SeededRng::seed_from_u64(options.seed);
-        let outcome = optimizer.minimize(&problem, options.budget, &mut rng, false);
-        (outcome.best, outcome.evaluations)
+        let outcome = optimizer.minimize(&problem, options.budget - polish_budget, &mut rng, false);
+        let (best, _, used) = compass_polish(&problem, outcome.best, outcome.value, polish_budget);
+        (best, outcome.evaluations + used)
     };
     let (samples, points, spline) = problem.spline_for(&best);
     let spline = spline.ok_or_else(|| Error::InvalidInput {
@@ -268,6 +342,7 @@ pub fn convert(curve: &ParametricCurve, options: &ConvertOptions) -> Result<Conv
         samples,
         feature_points: features,
         method: options.method.clone(),
+        fit: options.fit,
         seed: options.seed,
         evaluations,
         range: (a, b),
@@ -277,6 +352,7 @@ pub fn convert(curve: &ParametricCurve, options: &ConvertOptions) -> Result<Conv
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optim::Problem;
 
     const EX1_X: &str = "-26*u^4+64*u^3-52*u^2+16*u-1";
     const EX1_Y: &str = "-112/3*u^4+224/3*u^3-48*u^2+32/3*u";
@@ -288,20 +364,28 @@ mod tests {
     #[test]
     fn example_4_and_5_cubics_come_back_to_round_off() {
         // Eqs. (8) and (9); Table I uses 20 samples, 5 control points, order 4.
-        for (x, y) in [
-            ("u^2 - 1", "u^3 - u"),
-            ("u^3 + u + 2", "2*u^3 - 3*u^2 - 12*u + 5"),
-        ] {
-            let options = ConvertOptions {
-                control_points: 5,
-                budget: 200,
-                ..ConvertOptions::default()
-            };
-            let c = run(x, y, &options);
-            assert!(c.max_error_dense < 1e-9, "{x}: {}", c.max_error_dense);
-            assert!(c.rmse < 1e-9, "{x}: {}", c.rmse);
-            assert_eq!(c.samples.len(), 20);
-            assert_eq!(c.knots.len(), 5 + 4);
+        for fit in FitTarget::ALL {
+            for (x, y) in [
+                ("u^2 - 1", "u^3 - u"),
+                ("u^3 + u + 2", "2*u^3 - 3*u^2 - 12*u + 5"),
+            ] {
+                let options = ConvertOptions {
+                    control_points: 5,
+                    budget: 200,
+                    fit,
+                    ..ConvertOptions::default()
+                };
+                let c = run(x, y, &options);
+                assert!(
+                    c.max_error_dense < 1e-9,
+                    "{fit:?} {x}: {}",
+                    c.max_error_dense
+                );
+                assert!(c.rmse < 1e-9, "{fit:?} {x}: {}", c.rmse);
+                assert_eq!(c.samples.len(), 20);
+                assert_eq!(c.knots.len(), 5 + 4);
+                assert_eq!(c.fit, fit);
+            }
         }
     }
 
@@ -339,12 +423,79 @@ mod tests {
     }
 
     #[test]
-    fn example_1_with_the_fireworks_algorithm() {
+    fn example_1_defaults_reach_the_floor_below_the_papers_rmse() {
+        // Eq. (5), 20 samples, 6 control points, order 4, fwa, 3000 evaluations, control
+        // points fitted to the curve: the dense RMSE comes to the floor 0.0069492 (seeds
+        // 1–5 all within 2e-10 of it), 0.7 % below the paper's 0.007.
+        let c = run(EX1_X, EX1_Y, &ConvertOptions::default());
+        assert_eq!(c.fit, FitTarget::Curve);
+        assert_eq!(c.method, "fwa");
+        assert!(c.rmse_dense < 0.00696, "dense {}", c.rmse_dense);
+        assert!(c.rmse_dense >= EX1_FLOOR - 1e-7, "dense {}", c.rmse_dense);
+        assert!(c.max_error_dense >= c.rmse_dense);
+        assert_eq!(c.evaluations, 3000);
+        assert_eq!(c.samples.len(), 20);
+        assert_eq!(c.control_points.len(), 6);
+    }
+
+    #[test]
+    fn the_final_compass_search_brings_fwas_worst_seeds_below_0_007() {
+        // Without the compass search (all 3000 evaluations to fwa), seeds 37 and 39 ended
+        // at 0.0070441 and 0.0070212 densely with control points fitted to the curve.
+        for seed in [37, 39] {
+            let c = run(
+                EX1_X,
+                EX1_Y,
+                &ConvertOptions {
+                    seed,
+                    ..ConvertOptions::default()
+                },
+            );
+            assert!(c.rmse_dense < 0.00696, "seed {seed}: {}", c.rmse_dense);
+            assert_eq!(c.evaluations, 3000);
+        }
+    }
+
+    #[test]
+    fn compass_search_spends_its_budget_exactly_and_descends() {
+        struct Bowl;
+        impl optim::Problem for Bowl {
+            fn dim(&self) -> usize {
+                3
+            }
+            fn bounds(&self, _i: usize) -> (f64, f64) {
+                (0.0, 1.0)
+            }
+            fn evaluate(&self, x: &[f64]) -> f64 {
+                x.iter()
+                    .zip([0.3, 0.71, 0.5])
+                    .map(|(v, c)| (v - c) * (v - c))
+                    .sum()
+            }
+        }
+        let start = vec![0.25, 0.75, 0.5];
+        let v0 = Bowl.evaluate(&start);
+        let (x, v, used) = compass_polish(&Bowl, start, v0, 200);
+        assert_eq!(used, 200);
+        assert!(v < 1e-8 && v < v0, "{v}");
+        assert!((Bowl.evaluate(&x) - v).abs() < 1e-18);
+        // A zero budget leaves the point alone.
+        let (x, v, used) = compass_polish(&Bowl, vec![0.0; 3], 1.0, 0);
+        assert_eq!((x, v, used), (vec![0.0; 3], 1.0, 0));
+    }
+
+    #[test]
+    fn example_1_with_the_fireworks_algorithm_fitting_the_samples() {
         // Eq. (5), 20 samples, 6 control points, order 4 (Table I: RMSE 0.007 on its
         // samples). Control points by least squares on the 20 samples cannot reach the
-        // floor of the spline space (0.00695, test above); 3000 FWA evaluations give
-        // 0.00814 densely, evenly spaced samples 0.01413.
-        let c = run(EX1_X, EX1_Y, &ConvertOptions::default());
+        // floor of the spline space (0.00695, test above); 3000 evaluations (fwa and the
+        // compass search) give 0.00732 densely, evenly spaced samples 0.01413.
+        let samples = ConvertOptions {
+            fit: FitTarget::Samples,
+            ..ConvertOptions::default()
+        };
+        let c = run(EX1_X, EX1_Y, &samples);
+        assert_eq!(c.fit, FitTarget::Samples);
         assert!(c.rmse_dense < 0.0085, "dense {}", c.rmse_dense);
         assert!(c.rmse_dense >= EX1_FLOOR - 1e-7, "dense {}", c.rmse_dense);
         assert!(c.rmse < 0.0085, "samples {}", c.rmse);
@@ -369,7 +520,7 @@ mod tests {
             EX1_Y,
             &ConvertOptions {
                 method: UNIFORM.to_string(),
-                ..ConvertOptions::default()
+                ..samples
             },
         );
         assert!(
@@ -381,13 +532,20 @@ mod tests {
 
     #[test]
     fn same_seed_same_result_and_every_optimizer_runs() {
-        let options = ConvertOptions {
-            budget: 300,
-            ..ConvertOptions::default()
-        };
-        let one = serde_json::to_string(&run(EX1_X, EX1_Y, &options)).unwrap();
-        let two = serde_json::to_string(&run(EX1_X, EX1_Y, &options)).unwrap();
-        assert_eq!(one, two);
+        for fit in FitTarget::ALL {
+            let options = ConvertOptions {
+                budget: 300,
+                fit,
+                ..ConvertOptions::default()
+            };
+            let one = serde_json::to_string(&run(EX1_X, EX1_Y, &options)).unwrap();
+            let two = serde_json::to_string(&run(EX1_X, EX1_Y, &options)).unwrap();
+            assert_eq!(one, two);
+            assert!(
+                one.contains(&format!("\"fit\":\"{}\"", fit.name())),
+                "{one}"
+            );
+        }
         for name in optim::NAMES {
             let c = run(
                 EX1_X,
@@ -504,27 +662,55 @@ mod experiments {
         .unwrap();
         let mut names: Vec<&str> = optim::NAMES.to_vec();
         names.push(UNIFORM);
-        for budget in [3000u64, 20000] {
-            for name in &names {
-                for seed in [1u64, 2] {
+        let only = std::env::var("EX1_METHODS").unwrap_or_default();
+        if !only.is_empty() {
+            names = only.split(',').collect();
+        }
+        let seeds: u64 = std::env::var("EX1_SEEDS").map_or(5, |s| s.parse().unwrap());
+        let fits: Vec<FitTarget> = match std::env::var("EX1_FIT").as_deref() {
+            Ok("curve") => vec![FitTarget::Curve],
+            Ok("samples") => vec![FitTarget::Samples],
+            _ => FitTarget::ALL.to_vec(),
+        };
+        let budgets: Vec<u64> = std::env::var("EX1_BUDGETS")
+            .unwrap_or_else(|_| "3000".into())
+            .split(',')
+            .map(|b| b.parse().unwrap())
+            .collect();
+        for &fit in &fits {
+            for &budget in &budgets {
+                for name in &names {
+                    let mut dense = Vec::new();
                     let t = std::time::Instant::now();
-                    let c = convert(
-                        &curve,
-                        &ConvertOptions {
-                            method: name.to_string(),
-                            budget,
-                            seed,
-                            ..Default::default()
-                        },
-                    )
-                    .unwrap();
+                    for seed in 1u64..=seeds {
+                        let c = convert(
+                            &curve,
+                            &ConvertOptions {
+                                method: name.to_string(),
+                                budget,
+                                seed,
+                                fit,
+                                ..Default::default()
+                            },
+                        )
+                        .unwrap();
+                        dense.push(c.rmse_dense);
+                        if seed == 1 {
+                            print!(
+                                "{:7} {budget:6} {name:7} seed 1: rmse {:.6} max {:.6} | dense seeds 1-{seeds}:",
+                                fit.name(),
+                                c.rmse,
+                                c.max_error_dense
+                            );
+                        }
+                    }
+                    for d in &dense {
+                        print!(" {d:.7}");
+                    }
+                    let worst = dense.iter().cloned().fold(0.0, f64::max);
                     println!(
-                        "{budget:6} {name:8} seed {seed}: rmse {:.6} dense {:.6} max {:.6} features {} ({:.2}s)",
-                        c.rmse,
-                        c.rmse_dense,
-                        c.max_error_dense,
-                        c.feature_points.len(),
-                        t.elapsed().as_secs_f64()
+                        " worst {worst:.7} ({:.3}s/run)",
+                        t.elapsed().as_secs_f64() / seeds as f64
                     );
                 }
             }

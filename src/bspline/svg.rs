@@ -117,9 +117,10 @@ pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
         (
             r##"<line x1="0" y1="0" x2="30" y2="0" stroke="#d62728" stroke-width="1.5"/>"##,
             format!(
-                "B-spline, order {}, {} control points (dashed polygon)",
+                "B-spline, order {}, {} control points fitted to the {} (dashed polygon)",
                 conversion.order,
                 conversion.control_points.len(),
+                conversion.fit.name(),
             ),
         ),
         (

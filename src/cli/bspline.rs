@@ -2,8 +2,8 @@
 //! B-spline by the hybrid fireworks algorithm; JSON on stdout, optional SVG picture.
 
 use anyhow::Context;
-use clap::Args;
-use outlinefit::bspline::{convert, svg, ConvertOptions, ParametricCurve};
+use clap::{Args, ValueEnum};
+use outlinefit::bspline::{convert, svg, ConvertOptions, FitTarget, ParametricCurve};
 use outlinefit::io::write_atomic;
 use outlinefit::Error;
 use std::io::Write;
@@ -37,6 +37,12 @@ pub(crate) struct BsplineArgs {
     /// no search). Optimizers minimise the spline's dense RMSE against the curve.
     #[arg(long, default_value = "fwa", value_name = "NAME")]
     method: String,
+    /// What the control points are fitted to: curve (least squares against the true curve
+    /// at the 1000 dense parameters, minimising the dense error for the samples' knots) or
+    /// samples (least squares on the samples, the paper's Eq. 1). The knots come from the
+    /// samples either way.
+    #[arg(long, value_enum, default_value_t = FitArg::Curve, value_name = "TARGET")]
+    fit: FitArg,
     /// Objective evaluations for the optimizer.
     #[arg(long, default_value_t = 3000, value_name = "N")]
     budget: u64,
@@ -50,6 +56,24 @@ pub(crate) struct BsplineArgs {
     /// and its control polygon.
     #[arg(long, value_name = "PICTURE.svg")]
     svg: Option<PathBuf>,
+}
+
+/// `--fit` values.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum FitArg {
+    /// Least squares against the true curve at the dense parameters.
+    Curve,
+    /// Least squares on the samples (Eq. 1).
+    Samples,
+}
+
+impl From<FitArg> for FitTarget {
+    fn from(arg: FitArg) -> FitTarget {
+        match arg {
+            FitArg::Curve => FitTarget::Curve,
+            FitArg::Samples => FitTarget::Samples,
+        }
+    }
 }
 
 /// Parses `A,B` into two numbers (their order is checked by `ConvertOptions::validate`).
@@ -74,6 +98,7 @@ pub(crate) fn run(args: &BsplineArgs) -> anyhow::Result<i32> {
         budget: args.budget,
         seed: args.seed,
         feature_grid: args.grid,
+        fit: args.fit.into(),
     };
     // Options first, so that a bad option is reported before a bad expression is parsed.
     options.validate()?;
