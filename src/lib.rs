@@ -37,6 +37,7 @@ pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};
 pub use crate::curve::{CubicBez, RationalCubic};
 pub use crate::error::{Error, Result};
+pub use crate::fit::break_placement::Breaks;
 pub use crate::fit::meta::Search;
 pub use crate::fit::{FittedContour, FittedSegment, Joint, JointKind, SegmentError};
 pub use crate::geom::Point;
@@ -92,6 +93,16 @@ pub struct Config {
     pub merge: bool,
     /// Degree of merged curves, 3 to [`merge::MAX_DEGREE`]. Default: 5.
     pub merge_degree: usize,
+    /// Where smooth break points go: `curvature` (default) or `optimize`, which keeps the
+    /// corners and the segment count of the `lsq` chain and moves its smooth joints to
+    /// lower the total Eq. 4 error ([`fit::break_placement`]).
+    pub breaks: Breaks,
+    /// The metaheuristic (one of [`optim::NAMES`]) that places break points with
+    /// `breaks = optimize`. Default: `fwa`, as in the fireworks paper.
+    pub break_optimizer: String,
+    /// Objective evaluations per movable smooth joint for `breaks = optimize`. Default:
+    /// [`fit::break_placement::DEFAULT_BUDGET`].
+    pub break_budget: u64,
 }
 
 impl Default for Config {
@@ -112,6 +123,9 @@ impl Default for Config {
             timings: true,
             merge: false,
             merge_degree: 5,
+            breaks: Breaks::Curvature,
+            break_optimizer: fit::break_placement::DEFAULT_OPTIMIZER.to_string(),
+            break_budget: fit::break_placement::DEFAULT_BUDGET,
         }
     }
 }
@@ -147,6 +161,10 @@ impl Config {
         }
         if self.budget == 0 {
             return bad("--budget", "must be at least 1");
+        }
+        fit::break_placement::PlacementOptions::new(self).build_optimizer()?;
+        if self.break_budget == 0 {
+            return bad("--break-budget", "must be at least 1");
         }
         if !(merge::outline::MIN_OUTLINE_DEGREE..=merge::MAX_DEGREE).contains(&self.merge_degree) {
             return Err(Error::InvalidOption {
@@ -250,6 +268,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     }
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
     let lsq_options = fit::lsq::LsqOptions::new(config);
+    let placement_options = (config.breaks == Breaks::Optimize)
+        .then(|| fit::break_placement::PlacementOptions::new(config));
     let meta_options = (config.optimizer != "lsq").then(|| fit::meta::MetaOptions::new(config));
     let merge_options = config.merge.then_some(merge::outline::OutlineMergeOptions {
         degree: config.merge_degree,
@@ -259,7 +279,10 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            let chain = fit::lsq::fit_contour(&find_breaks(c, &break_options), &lsq_options);
+            let mut chain = fit::lsq::fit_contour(&find_breaks(c, &break_options), &lsq_options);
+            if let Some(opts) = &placement_options {
+                chain = fit::break_placement::optimize_contour(&chain, opts, i)?;
+            }
             let mut fitted = match &meta_options {
                 None => chain,
                 Some(opts) => fit::meta::fit_contour(&chain, opts, i)?,

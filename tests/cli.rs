@@ -336,3 +336,51 @@ fn report_records_optimizer_search_space_and_history() {
         "{s}"
     );
 }
+
+#[test]
+fn optimised_breaks_are_deterministic_on_one_and_two_threads_and_refuse_bad_options() {
+    let dir = scratch("breaks");
+    let extra = [
+        "--breaks",
+        "optimize",
+        "--break-budget",
+        "30",
+        "--seed",
+        "7",
+    ];
+    let one = dir.join("one");
+    let two = dir.join("two");
+    assert!(batch(&common::samples_dir(), &one, "1", &extra)
+        .status
+        .success());
+    assert!(batch(&common::samples_dir(), &two, "2", &extra)
+        .status
+        .success());
+    let names = files_in(&one);
+    assert_eq!(names, files_in(&two));
+    assert!(names.iter().filter(|n| n.ends_with(".json")).count() >= 7);
+    for n in &names {
+        assert_eq!(
+            std::fs::read(one.join(n)).unwrap(),
+            std::fs::read(two.join(n)).unwrap(),
+            "{n} differs"
+        );
+    }
+    // The report records the mode, the optimizer and the budget.
+    let report = names.iter().find(|n| n.ends_with(".json")).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(one.join(report)).unwrap()).unwrap();
+    assert_eq!(json["config"]["breaks"], "optimize");
+    assert_eq!(json["config"]["break_optimizer"], "fwa");
+    assert_eq!(json["config"]["break_budget"], 30);
+    // Bad values: one line, exit code 1, nothing written.
+    let input = dir.join("s.png");
+    std::fs::copy(common::samples_dir().join("s.png"), &input).unwrap();
+    assert_clean_failure(&input, &["--breaks", "sideways"], "--breaks");
+    assert_clean_failure(
+        &input,
+        &["--breaks", "optimize", "--break-optimizer", "lsq"],
+        "--break-optimizer",
+    );
+    assert_clean_failure(&input, &["--break-budget", "0"], "--break-budget");
+}

@@ -82,7 +82,7 @@ struct Row {
 }
 
 pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
-    let config = args.fit.config();
+    let config = args.fit.config()?;
     config.validate()?;
     if !args.input.is_dir() {
         bail!("{} is not a folder", args.input.display());

@@ -155,11 +155,26 @@ struct FitArgs {
     /// Degree of merged curves (3–20).
     #[arg(long, default_value_t = 5, value_name = "N")]
     merge_degree: usize,
+    /// Where smooth break points go: `curvature` (curvature analysis and error-driven
+    /// splitting) or `optimize` (same corners and segment count, smooth joints moved by
+    /// --break-optimizer to lower the total error; never worse, typically a few times
+    /// slower than curvature).
+    #[arg(long, default_value = "curvature", value_name = "MODE")]
+    breaks: String,
+    /// The metaheuristic that places break points with --breaks optimize (fwa: fireworks,
+    /// as in the paper; any name of --optimizer except lsq).
+    #[arg(long, default_value = outlinefit::fit::break_placement::DEFAULT_OPTIMIZER, value_name = "NAME")]
+    break_optimizer: String,
+    /// Objective evaluations per movable smooth joint with --breaks optimize.
+    #[arg(long, default_value_t = outlinefit::fit::break_placement::DEFAULT_BUDGET, value_name = "N")]
+    break_budget: u64,
 }
 
 impl FitArgs {
-    fn config(&self) -> Config {
-        Config {
+    /// The configuration; fails on an unknown `--breaks` mode (the other values are
+    /// checked by [`Config::validate`]).
+    fn config(&self) -> outlinefit::Result<Config> {
+        Ok(Config {
             optimizer: self.optimizer.clone(),
             search: self.search.into(),
             budget: self.budget,
@@ -169,8 +184,11 @@ impl FitArgs {
             timings: !self.no_timings,
             merge: self.merge,
             merge_degree: self.merge_degree,
+            breaks: self.breaks.parse()?,
+            break_optimizer: self.break_optimizer.clone(),
+            break_budget: self.break_budget,
             ..self.shape.config()
-        }
+        })
     }
 }
 

@@ -37,7 +37,7 @@ pub(crate) struct TraceArgs {
 }
 
 pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
-    let config = args.fit.config();
+    let config = args.fit.config()?;
     config.validate()?;
     let svg_path = args
         .output

@@ -59,22 +59,25 @@ impl LsqOptions {
 
 /// A joint while the chain is being built.
 #[derive(Clone, Copy, Debug)]
-struct JointSpec {
-    index: usize,
-    kind: JointKind,
+pub(super) struct JointSpec {
+    /// Index of the joint in the contour's point list.
+    pub(super) index: usize,
+    /// Corner or smooth.
+    pub(super) kind: JointKind,
     /// Unit tangent in the direction of travel (smooth joints only).
-    tangent: Option<Point>,
+    pub(super) tangent: Option<Point>,
 }
 
 /// A segment's current fit.
 #[derive(Clone, Debug)]
-struct Piece {
-    solution: SegmentSolution,
+pub(super) struct Piece {
+    /// The fitted curve and parameters.
+    pub(super) solution: SegmentSolution,
     /// Largest |P(u_i) − Q_i| at the fitted parameters (an upper bound of the true
     /// point-to-curve distance, used for split and merge decisions).
-    max_residual: f64,
+    pub(super) max_residual: f64,
     /// Number of polynomial cubics the segment becomes in SVG.
-    pieces: usize,
+    pub(super) pieces: usize,
 }
 
 /// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
@@ -159,6 +162,60 @@ pub fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point {
     }
 }
 
+/// Fits the run of `points` from joint `a` to joint `b` the way the chain does: a
+/// polynomial cubic when it is within tolerance, otherwise the weight search when that is
+/// better. `buf` receives the run's points.
+pub(super) fn fit_piece(
+    points: &[Point],
+    a: &JointSpec,
+    b: &JointSpec,
+    opts: &LsqOptions,
+    buf: &mut Vec<Point>,
+) -> Piece {
+    let search = opts.settings;
+    let polynomial = FitSettings {
+        polish_iterations: opts.settings.polish_iterations,
+        ..FitSettings::polynomial()
+    };
+    cyclic_run(points, a.index, b.index, buf);
+    let start = a.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
+    let end = b.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
+    let residual = |sol: &SegmentSolution| {
+        buf.iter()
+            .zip(&sol.params)
+            .map(|(q, &u)| sol.curve.eval(u).distance(*q))
+            .fold(0.0, f64::max)
+    };
+    // A polynomial cubic is what SVG draws exactly: prefer it whenever it is within
+    // tolerance; otherwise search the weights.
+    let poly = fit_segment(buf, start, end, &polynomial);
+    let poly_residual = residual(&poly);
+    // Weights bend a cubic only so far: past a few tolerances the weight search is
+    // not worth its cost, and the segment will be split anyway.
+    if poly_residual <= opts.tolerance || poly_residual > 4.0 * opts.tolerance {
+        return Piece {
+            solution: poly,
+            max_residual: poly_residual,
+            pieces: 1,
+        };
+    }
+    let solution = fit_segment(buf, start, end, &search);
+    let max_residual = residual(&solution);
+    if max_residual >= poly_residual {
+        return Piece {
+            solution: poly,
+            max_residual: poly_residual,
+            pieces: 1,
+        };
+    }
+    let pieces = approximate_with_cubics(&solution.curve, opts.export_bound).len();
+    Piece {
+        solution,
+        max_residual,
+        pieces,
+    }
+}
+
 /// Fits a closed chain of segments to a segmented contour.
 pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
     let points = &seg.points;
@@ -184,49 +241,8 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
         };
     }
     let mut buf = Vec::new();
-    let search = opts.settings;
-    let polynomial = FitSettings {
-        polish_iterations: opts.settings.polish_iterations,
-        ..FitSettings::polynomial()
-    };
     let fit = |a: &JointSpec, b: &JointSpec, buf: &mut Vec<Point>| -> Piece {
-        cyclic_run(points, a.index, b.index, buf);
-        let start = a.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
-        let end = b.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
-        let residual = |sol: &SegmentSolution| {
-            buf.iter()
-                .zip(&sol.params)
-                .map(|(q, &u)| sol.curve.eval(u).distance(*q))
-                .fold(0.0, f64::max)
-        };
-        // A polynomial cubic is what SVG draws exactly: prefer it whenever it is within
-        // tolerance; otherwise search the weights.
-        let poly = fit_segment(buf, start, end, &polynomial);
-        let poly_residual = residual(&poly);
-        // Weights bend a cubic only so far: past a few tolerances the weight search is
-        // not worth its cost, and the segment will be split anyway.
-        if poly_residual <= opts.tolerance || poly_residual > 4.0 * opts.tolerance {
-            return Piece {
-                solution: poly,
-                max_residual: poly_residual,
-                pieces: 1,
-            };
-        }
-        let solution = fit_segment(buf, start, end, &search);
-        let max_residual = residual(&solution);
-        if max_residual >= poly_residual {
-            return Piece {
-                solution: poly,
-                max_residual: poly_residual,
-                pieces: 1,
-            };
-        }
-        let pieces = approximate_with_cubics(&solution.curve, opts.export_bound).len();
-        Piece {
-            solution,
-            max_residual,
-            pieces,
-        }
+        fit_piece(points, a, b, opts, buf)
     };
 
     // Runs (between two joint indices) known not to fit within tolerance: a split
@@ -311,17 +327,18 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
         }
     }
 
-    assemble(seg, &joints, pieces, opts)
+    assemble(points, seg.is_hole, seg.parent, &joints, pieces, opts)
 }
 
 /// Builds the public result: final error statistics and joint data.
-fn assemble(
-    seg: &SegmentedContour,
+pub(super) fn assemble(
+    points: &[Point],
+    is_hole: bool,
+    parent: Option<usize>,
     joints: &[JointSpec],
     pieces: Vec<Piece>,
     opts: &LsqOptions,
 ) -> FittedContour {
-    let points = &seg.points;
     let m = joints.len();
     let (arc, _) = arc_lengths(points);
     let mut buf = Vec::new();
@@ -355,9 +372,9 @@ fn assemble(
         .collect();
     let joints_out = joint_report(&segments, joints.iter().map(|j| (j.index, j.kind)), points);
     FittedContour {
-        points: points.clone(),
-        is_hole: seg.is_hole,
-        parent: seg.parent,
+        points: points.to_vec(),
+        is_hole,
+        parent,
         segments,
         joints: joints_out,
         merged: Vec::new(),

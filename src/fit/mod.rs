@@ -2,8 +2,10 @@
 //!
 //! Two strategies share the data types here: [`lsq`] (the default; separable least
 //! squares with exact G1 at every smooth joint and error-driven splitting) and [`paper`]
-//! (the harmony-search scheme of the HS paper, §6).
+//! (the harmony-search scheme of the HS paper, §6). [`break_placement`] moves the smooth
+//! joints of an `lsq` chain to lower its total error (`--breaks optimize`).
 
+pub mod break_placement;
 pub mod lsq;
 pub mod meta;
 pub mod paper;
