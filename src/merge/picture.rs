@@ -2,8 +2,8 @@
 //!
 //! The envelope of the circles `(C(t), R(t))` is
 //! `E±(t) = C − (R R' / |C'|²) C' ± (R √(|C'|² − R'²) / |C'|²) C'⊥`; where `|R'| ≥ |C'|` a
-//! disk contains its neighbours and the envelope has no point, so the band is drawn as the
-//! union of the sampled disks' outlines there (the band polygon skips those samples).
+//! disk contains its neighbours and the envelope has no point there, so the band polygon
+//! simply skips those samples (the control disks are drawn as dashed circles beside it).
 
 use crate::curve::wang_ball::DiskWangBall;
 use crate::geom::Point;
