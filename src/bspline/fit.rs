@@ -140,16 +140,7 @@ pub fn fit_samples(
     n_ctrl: usize,
     order: usize,
 ) -> Option<BSpline> {
-    if params.len() < n_ctrl || n_ctrl < order || order < 2 {
-        return None;
-    }
-    let knots = averaging_knots(params, n_ctrl, order);
-    let control_points = least_squares_control_points(params, points, order, &knots)?;
-    Some(BSpline {
-        order,
-        knots,
-        control_points,
-    })
+    fit_with_sample_knots(params, params, points, n_ctrl, order)
 }
 
 /// The spline of `order` with `n_ctrl` control points whose knots come from the samples
@@ -161,12 +152,23 @@ pub fn fit_curve(
     n_ctrl: usize,
     order: usize,
 ) -> Option<BSpline> {
+    fit_with_sample_knots(params, &reference.params, &reference.points, n_ctrl, order)
+}
+
+/// Knots from the samples' `params` by the averaging rule, control points by least squares
+/// through `fit_points` at `fit_params`.
+fn fit_with_sample_knots(
+    params: &[f64],
+    fit_params: &[f64],
+    fit_points: &[Point],
+    n_ctrl: usize,
+    order: usize,
+) -> Option<BSpline> {
     if params.len() < n_ctrl || n_ctrl < order || order < 2 {
         return None;
     }
     let knots = averaging_knots(params, n_ctrl, order);
-    let control_points =
-        least_squares_control_points(&reference.params, &reference.points, order, &knots)?;
+    let control_points = least_squares_control_points(fit_params, fit_points, order, &knots)?;
     Some(BSpline {
         order,
         knots,

@@ -6,6 +6,7 @@
 
 use super::expr::ParametricCurve;
 use super::Conversion;
+use crate::export::svg::escape_attribute;
 use crate::geom::Point;
 use std::fmt::Write;
 
@@ -151,15 +152,9 @@ pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
         let _ = writeln!(
             svg,
             r#"<g transform="translate({margin:.0},{y:.1})">{mark}<text x="40" y="5">{}</text></g>"#,
-            escape(text)
+            escape_attribute(text)
         );
     }
     svg.push_str("</svg>\n");
     svg
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }

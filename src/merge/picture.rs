@@ -6,6 +6,7 @@
 //! simply skips those samples (the control disks are drawn as dashed circles beside it).
 
 use crate::curve::wang_ball::DiskWangBall;
+use crate::export::svg::escape_attribute;
 use crate::geom::Point;
 use std::fmt::Write as _;
 
@@ -131,17 +132,11 @@ pub fn to_svg(layers: &[Layer<'_>]) -> String {
             y - 9.0,
             l.colour,
             y,
-            escape(l.label)
+            escape_attribute(l.label)
         );
     }
     out.push_str("</svg>\n");
     out
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 #[cfg(test)]
