@@ -5,55 +5,17 @@
 //! `cargo run --release --example merge_paper [-- RUNS [BUDGET]]` (default 30 seeds, the
 //! paper's 25 000 evaluations = population 50 × 500 iterations).
 
-use outlinefit::curve::wang_ball::{Disk, DiskWangBall};
-use outlinefit::geom::Point;
-use outlinefit::merge::{MergeOptions, MergeProblem, Method};
+use outlinefit::merge::{paper, MergeOptions, MergeProblem, Method};
 use outlinefit::optim;
 use rayon::prelude::*;
 use std::time::Instant;
-
-fn dwb(data: &[(f64, f64, f64)]) -> DiskWangBall {
-    DiskWangBall::new(
-        data.iter()
-            .map(|&(x, y, r)| Disk::new(Point::new(x, y), r))
-            .collect(),
-    )
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let runs: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(30);
     let budget: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(25_000);
-    let example1 = (
-        dwb(&[
-            (0.3, 0.3, 0.13),
-            (0.8, 1.6, 0.15),
-            (1.6, 1.8, 0.19),
-            (2.5, 1.7, 0.17),
-        ]),
-        dwb(&[
-            (2.5, 1.7, 0.17),
-            (3.4, 1.8, 0.12),
-            (3.8, 1.3, 0.13),
-            (3.4, 0.7, 0.1),
-            (2.2, 0.3, 0.16),
-        ]),
-    );
-    let example3 = (
-        dwb(&[
-            (2.0, 7.2, 0.1),
-            (-1.0, 1.0, 0.3),
-            (2.5, 0.1, 0.4),
-            (5.0, 1.5, 0.2),
-        ]),
-        dwb(&[
-            (5.0, 1.5, 0.2),
-            (7.5, 3.0, 0.4),
-            (7.3, 7.8, 0.3),
-            (3.0, 7.0, 0.2),
-            (2.5, 2.5, 0.2),
-        ]),
-    );
+    let example1 = paper::example1();
+    let example3 = paper::example3();
     // (name, curves, degree, preserve, the paper's BEESO error and best other method)
     let cases = [
         (

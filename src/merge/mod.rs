@@ -33,6 +33,7 @@
 pub mod bounded;
 pub mod input;
 pub mod outline;
+pub mod paper;
 pub mod picture;
 
 use crate::curve::wang_ball::{merge_lambda, wang_ball_basis, Disk, DiskWangBall};

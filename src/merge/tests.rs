@@ -1,51 +1,6 @@
+use super::paper::{dwb, example1, example3};
 use super::*;
 use crate::optim;
-
-fn dwb(data: &[(f64, f64, f64)]) -> DiskWangBall {
-    DiskWangBall::new(
-        data.iter()
-            .map(|&(x, y, r)| Disk::new(Point::new(x, y), r))
-            .collect(),
-    )
-}
-
-/// Example 1 (Table 1): degrees 3 and 4.
-pub(crate) fn example1() -> (DiskWangBall, DiskWangBall) {
-    (
-        dwb(&[
-            (0.3, 0.3, 0.13),
-            (0.8, 1.6, 0.15),
-            (1.6, 1.8, 0.19),
-            (2.5, 1.7, 0.17),
-        ]),
-        dwb(&[
-            (2.5, 1.7, 0.17),
-            (3.4, 1.8, 0.12),
-            (3.8, 1.3, 0.13),
-            (3.4, 0.7, 0.1),
-            (2.2, 0.3, 0.16),
-        ]),
-    )
-}
-
-/// Example 3 (Table 7): degrees 3 and 4.
-pub(crate) fn example3() -> (DiskWangBall, DiskWangBall) {
-    (
-        dwb(&[
-            (2.0, 7.2, 0.1),
-            (-1.0, 1.0, 0.3),
-            (2.5, 0.1, 0.4),
-            (5.0, 1.5, 0.2),
-        ]),
-        dwb(&[
-            (5.0, 1.5, 0.2),
-            (7.5, 3.0, 0.4),
-            (7.3, 7.8, 0.3),
-            (3.0, 7.0, 0.2),
-            (2.5, 2.5, 0.2),
-        ]),
-    )
-}
 
 fn columns(x: &[f64], y: &[f64], r: &[f64]) -> Vec<(f64, f64, f64)> {
     x.iter()
