@@ -7,6 +7,32 @@ use outlinefit::export::svg::{to_svg, SvgOptions};
 use outlinefit::fit::meta::{fit_contour, reference_errors, MetaOptions};
 use outlinefit::{trace_file, Breaks, Config, JointKind, Search};
 
+/// Every smooth joint is G1 to 1e-9 with a finite positive β, and the chain is closed: each
+/// segment ends exactly where the next starts.
+fn assert_g1_and_closed(c: &outlinefit::FittedContour, name: &str) {
+    for j in c.joints.iter().filter(|j| j.kind == JointKind::Smooth) {
+        assert!(
+            j.angle < 1e-9,
+            "{name}: smooth joint at {:?} has tangent angle {}",
+            j.position,
+            j.angle
+        );
+        assert!(
+            j.beta > 0.0 && j.beta.is_finite(),
+            "{name}: beta {}",
+            j.beta
+        );
+    }
+    let m = c.segments.len();
+    for k in 0..m {
+        assert_eq!(
+            c.segments[k].curve.points[3],
+            c.segments[(k + 1) % m].curve.points[0],
+            "{name}"
+        );
+    }
+}
+
 fn check_sample(config: &Config, min_iou: f64) {
     for path in common::sample_paths() {
         let result =
@@ -14,28 +40,7 @@ fn check_sample(config: &Config, min_iou: f64) {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         assert!(result.segment_count() > 0, "{name}: no segments");
         for c in &result.contours {
-            for j in c.joints.iter().filter(|j| j.kind == JointKind::Smooth) {
-                assert!(
-                    j.angle < 1e-9,
-                    "{name}: smooth joint at {:?} has tangent angle {}",
-                    j.position,
-                    j.angle
-                );
-                assert!(
-                    j.beta > 0.0 && j.beta.is_finite(),
-                    "{name}: beta {}",
-                    j.beta
-                );
-            }
-            // The chain is closed: each segment ends exactly where the next starts.
-            let m = c.segments.len();
-            for k in 0..m {
-                assert_eq!(
-                    c.segments[k].curve.points[3],
-                    c.segments[(k + 1) % m].curve.points[0],
-                    "{name}"
-                );
-            }
+            assert_g1_and_closed(c, &name);
         }
         let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
         let iou = iou_with_input(&svg, &path);
@@ -280,22 +285,7 @@ fn optimised_breaks_lower_the_error_at_equal_segment_count_and_keep_corners_and_
                     .collect()
             };
             assert_eq!(corners(ca), corners(cb), "{name} contour {i}");
-            for j in cb.joints.iter().filter(|j| j.kind == JointKind::Smooth) {
-                assert!(j.angle < 1e-9, "{name}: joint angle {}", j.angle);
-                assert!(
-                    j.beta > 0.0 && j.beta.is_finite(),
-                    "{name}: beta {}",
-                    j.beta
-                );
-            }
-            let m = cb.segments.len();
-            for k in 0..m {
-                assert_eq!(
-                    cb.segments[k].curve.points[3],
-                    cb.segments[(k + 1) % m].curve.points[0],
-                    "{name}"
-                );
-            }
+            assert_g1_and_closed(cb, &name);
             moved += ca
                 .joints
                 .iter()
