@@ -219,10 +219,11 @@ impl MergeProblem {
 
     /// `(center part, radius part)` of the merging error ε of `merged` (degree n).
     pub fn error_parts(&self, merged: &DiskWangBall) -> (f64, f64) {
-        self.error_parts_of(|k| merged.disks[k])
+        self.error_parts_of(&merged.disks)
     }
 
-    fn error_parts_of(&self, disk: impl Fn(usize) -> Disk) -> (f64, f64) {
+    /// ε's parts for the control disks `disks` (`degree + 1` of them).
+    fn error_parts_of(&self, disks: &[Disk]) -> (f64, f64) {
         let m = self.options.degree + 1;
         let (mut ec, mut er) = (0.0, 0.0);
         for ((target, &w), phi) in self
@@ -232,8 +233,7 @@ impl MergeProblem {
             .zip(self.basis.chunks_exact(m))
         {
             let (mut c, mut r) = (Point::ZERO, 0.0);
-            for (k, &p) in phi.iter().enumerate() {
-                let d = disk(k);
+            for (d, &p) in disks.iter().zip(phi) {
                 c += d.center * p;
                 r += d.radius * p;
             }
@@ -394,7 +394,13 @@ impl Problem for MergeProblem {
     }
 
     fn evaluate(&self, x: &[f64]) -> f64 {
-        let (c, r) = self.error_parts_of(|k| self.disk_of(x, k));
+        // The disks once per evaluation (degree ≤ MAX_DEGREE), not once per node.
+        let mut disks = [Disk::default(); MAX_DEGREE + 1];
+        let n = self.options.degree;
+        for (k, d) in disks[..=n].iter_mut().enumerate() {
+            *d = self.disk_of(x, k);
+        }
+        let (c, r) = self.error_parts_of(&disks[..=n]);
         c + r
     }
 }
