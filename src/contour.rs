@@ -103,8 +103,19 @@ const MONOTONE_SLACK: f64 = 0.02;
 const MIN_NORMAL_AGREEMENT: f64 = 0.0;
 /// Largest accepted move (px) of a refined point from its crack midpoint.
 const MAX_SHIFT: f64 = 1.5;
+/// Largest distance (px) across its crack that a refined edge point may lie from the crack
+/// midpoint: with the threshold near half coverage an edge consistent with the two pixels
+/// the crack separates lies within ~0.5 px of it (0.7 px on a diagonal).
+const MAX_CRACK_SHIFT: f64 = 0.75;
 /// Points closer than this (px) to their predecessor are removed.
 const MIN_SPACING: f64 = 0.3;
+/// A point that steps backwards is dropped only within this distance (px) of the last kept
+/// point.
+const MAX_BACKSTEP: f64 = 1.0;
+/// At most this many backsteps in a row are dropped.
+const MAX_BACKSTEP_RUN: usize = 3;
+/// How many points ahead the loop cutter looks for a crossing.
+const LOOP_REACH: usize = 6;
 /// Target spacing (px) of the resampled points.
 const TARGET_SPACING: f64 = 0.8;
 /// A turn above this (degrees) between consecutive segments makes a point an exact sample.
@@ -330,6 +341,102 @@ impl PaddedMask {
 /// bitmap's public `width`/`height` were changed so that they no longer match its
 /// coverage, or exceed 2³¹ − 3.
 pub fn extract_contours(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Vec<Contour>> {
+    Ok(extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)?.contours)
+}
+
+/// The contours together with every border they came from, so that a stretch whose
+/// trace does not match the thresholded pixels can be traced again from those pixels
+/// alone (see [`crate::fidelity`]).
+pub(crate) struct Extraction {
+    /// What [`extract_contours`] returns.
+    pub(crate) contours: Vec<Contour>,
+    /// Every border found, kept or dropped, in `find_contours` order.
+    pub(crate) borders: Vec<Border>,
+    /// Index into `borders` of each contour.
+    pub(crate) border_of: Vec<usize>,
+    mask: PaddedMask,
+}
+
+/// One border of the thresholded mask.
+pub(crate) struct Border {
+    cracks: Vec<Crack>,
+    /// True for the border of a hole.
+    pub(crate) is_hole: bool,
+    /// Index of the enclosing border.
+    pub(crate) parent: Option<usize>,
+}
+
+/// How closely a re-trace follows the pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PixelTrace {
+    /// The bilevel path (regression of the pixel-edge midpoints with sharp corners),
+    /// guarded by [`follows_cracks`].
+    Smoothed,
+    /// The pixel-edge midpoints themselves: exact to the mask, staircase and all.
+    Raw,
+}
+
+impl Border {
+    /// The pixel-edge midpoints of the border, in walking order (foreground on the right).
+    pub(crate) fn midpoints(&self) -> impl Iterator<Item = Point> + '_ {
+        self.cracks.iter().map(|c| c.mid)
+    }
+
+    /// True when a pixel on either side of the border (index row × `width` + column)
+    /// is in `pixels`.
+    pub(crate) fn touches(&self, pixels: &std::collections::HashSet<u32>, width: u32) -> bool {
+        let index = |(c, r): (i64, i64)| {
+            (c >= 0 && r >= 0 && c < i64::from(width))
+                .then(|| u32::try_from(r * i64::from(width) + c).ok())
+                .flatten()
+        };
+        self.cracks.iter().any(|k| {
+            let outside = (
+                k.inside.0 + k.normal.x as i64,
+                k.inside.1 + k.normal.y as i64,
+            );
+            [k.inside, outside]
+                .into_iter()
+                .any(|p| index(p).is_some_and(|i| pixels.contains(&i)))
+        })
+    }
+
+    /// Area (px²) enclosed by the pixel-edge midpoints.
+    pub(crate) fn pixel_area(&self) -> f64 {
+        let mids: Vec<Point> = self.midpoints().collect();
+        signed_area(&mids).abs()
+    }
+}
+
+impl Extraction {
+    /// The border traced again from the thresholded pixels alone, oriented like a
+    /// contour (outer borders clockwise on screen, holes counter-clockwise); `None` when
+    /// it has fewer than 3 points or no area.
+    pub(crate) fn pixel_contour(
+        &self,
+        border: usize,
+        how: PixelTrace,
+        parent: Option<usize>,
+    ) -> Option<Contour> {
+        let b = self.borders.get(border)?;
+        let points = match how {
+            PixelTrace::Raw => b.midpoints().collect(),
+            PixelTrace::Smoothed => {
+                let mut work = Workspace::default();
+                let fitted = work.bilevel_outline(&b.cracks, &self.mask);
+                if follows_cracks(&fitted, &b.cracks) {
+                    fitted
+                } else {
+                    smoothed_cracks(&b.cracks)
+                }
+            }
+        };
+        finish(points, b.is_hole, parent, 0.0)
+    }
+}
+
+/// [`extract_contours`] keeping the borders.
+pub(crate) fn extract_borders(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Extraction> {
     extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)
 }
 
@@ -337,7 +444,7 @@ fn extract_with(
     bitmap: &Bitmap,
     opts: &ContourOptions,
     estimator: EdgeEstimator,
-) -> Result<Vec<Contour>> {
+) -> Result<Extraction> {
     if !(opts.min_area.is_finite() && opts.min_area >= 0.0) {
         return Err(Error::InvalidOption {
             name: "--min-area",
@@ -345,8 +452,18 @@ fn extract_with(
         });
     }
     let (w, h) = (bitmap.width as usize, bitmap.height as usize);
+    let mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
+        name: "bitmap",
+        message: "cannot build the padded mask".to_string(),
+    })?;
+    let empty = |mask| Extraction {
+        contours: Vec::new(),
+        borders: Vec::new(),
+        border_of: Vec::new(),
+        mask,
+    };
     if w == 0 || h == 0 {
-        return Ok(Vec::new());
+        return Ok(empty(mask));
     }
     if bitmap.coverage().len() as u64 != w as u64 * h as u64 {
         return Err(Error::InvalidOption {
@@ -368,43 +485,54 @@ fn extract_with(
         });
     }
 
-    let mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
-        name: "bitmap",
-        message: "cannot build the padded mask".to_string(),
-    })?;
-    let borders = find_contours::<i32>(&mask.image);
+    let found = find_contours::<i32>(&mask.image);
 
-    let mut cracks = Vec::new();
     let mut work = Workspace::default();
-    let mut traced: Vec<Option<Contour>> = Vec::with_capacity(borders.len());
-    for border in &borders {
-        let Some(first) = border.points.first() else {
-            traced.push(None);
-            continue;
-        };
-        let (x, y) = (i64::from(first.x), i64::from(first.y));
+    let mut traced: Vec<Option<Contour>> = Vec::with_capacity(found.len());
+    let mut borders = Vec::with_capacity(found.len());
+    for border in &found {
+        let mut cracks = Vec::new();
         let is_hole = border.border_type == BorderType::Hole;
-        if is_hole {
-            mask.trace((x + 1, y), 1, &mut cracks);
-        } else {
-            mask.trace((x, y + 1), 3, &mut cracks);
-        }
-        let points = if bitmap.is_bilevel() {
-            let fitted = work.bilevel_outline(&cracks, &mask);
-            if follows_cracks(&fitted, &cracks) {
-                fitted
+        if let Some(first) = border.points.first() {
+            let (x, y) = (i64::from(first.x), i64::from(first.y));
+            if is_hole {
+                mask.trace((x + 1, y), 1, &mut cracks);
             } else {
-                // The regression lost the outline (seen on some diagonal strokes): fall
-                // back to the plainly smoothed pixel-edge midpoints.
-                smoothed_cracks(&cracks)
+                mask.trace((x, y + 1), 3, &mut cracks);
             }
+        }
+        let contour = if cracks.is_empty() {
+            None
         } else {
-            work.refined_outline(bitmap, &cracks, estimator)
+            let points = if bitmap.is_bilevel() {
+                let fitted = work.bilevel_outline(&cracks, &mask);
+                if follows_cracks(&fitted, &cracks) {
+                    fitted
+                } else {
+                    // The regression lost the outline (seen on some diagonal strokes): fall
+                    // back to the plainly smoothed pixel-edge midpoints.
+                    smoothed_cracks(&cracks)
+                }
+            } else {
+                work.refined_outline(bitmap, &cracks, estimator)
+            };
+            finish(points, is_hole, border.parent, opts.min_area)
         };
-        let contour = finish(points, is_hole, border.parent, opts.min_area);
         traced.push(contour);
+        borders.push(Border {
+            cracks,
+            is_hole,
+            parent: border.parent,
+        });
     }
-    Ok(renumber(traced, borders.iter().map(|b| b.parent).collect()))
+    let parents: Vec<Option<usize>> = found.iter().map(|b| b.parent).collect();
+    let (contours, border_of) = renumber(traced, parents);
+    Ok(Extraction {
+        contours,
+        borders,
+        border_of,
+        mask,
+    })
 }
 
 /// Largest distance (px) a bilevel outline point may lie from the nearest pixel-edge
@@ -490,8 +618,12 @@ fn finish(
     })
 }
 
-/// Drops every contour whose ancestor was dropped and renumbers the parents.
-fn renumber(traced: Vec<Option<Contour>>, parents: Vec<Option<usize>>) -> Vec<Contour> {
+/// Drops every contour whose ancestor was dropped and renumbers the parents; also gives
+/// the border index of every contour kept.
+fn renumber(
+    traced: Vec<Option<Contour>>,
+    parents: Vec<Option<usize>>,
+) -> (Vec<Contour>, Vec<usize>) {
     let n = traced.len();
     let alive = |mut i: usize| {
         // A chain longer than n would be a cycle; treat it as dropped.
@@ -516,15 +648,19 @@ fn renumber(traced: Vec<Option<Contour>>, parents: Vec<Option<usize>>) -> Vec<Co
             next += 1;
         }
     }
-    traced
+    let mut border_of = Vec::with_capacity(next);
+    let contours = traced
         .into_iter()
         .zip(keep)
-        .filter_map(|(c, k)| if k { c } else { None })
-        .map(|mut c| {
+        .enumerate()
+        .filter_map(|(i, (c, k))| if k { c.map(|c| (i, c)) } else { None })
+        .map(|(i, mut c)| {
+            border_of.push(i);
             c.parent = c.parent.map(|p| new_index[p]);
             c
         })
-        .collect()
+        .collect();
+    (contours, border_of)
 }
 
 /// Reusable buffers, so that tracing allocates per contour, not per point.
@@ -1365,19 +1501,31 @@ impl Workspace {
         self.anchors = anchors;
     }
 
-    /// Removes points within `MIN_SPACING` of the last kept one and points that step
-    /// backwards along the last kept point's tangent. Anchors are kept in preference.
+    /// Removes points within `MIN_SPACING` of the last kept one and points that step a
+    /// little backwards along the last kept point's tangent (the zigzag that refinement
+    /// leaves at concave corners), then cuts the small loops that remain. Anchors are kept
+    /// in preference.
+    ///
+    /// A backstep is dropped only while it stays within `MAX_BACKSTEP` of the last kept
+    /// point and at most `MAX_BACKSTEP_RUN` in a row: the test trusts one tangent, and an
+    /// unbounded rule let a single bad tangent (at a tapering tip, or a square corner whose
+    /// next side runs exactly across it) discard every following point, losing whole parts
+    /// of the shape (a wisp became 2 points, the foot of an italic 2 was cut corner to
+    /// corner).
     fn remove_close_and_backsteps(&mut self) {
         let n = self.points.len();
         self.anchors.resize(n, false);
         let mut kept = 0usize;
+        let mut dropped_run = 0usize;
         for i in 0..n {
             let p = self.points[i];
             if kept > 0 {
                 let q = self.points[kept - 1];
                 let step = p - q;
                 let too_close = step.length_squared() < MIN_SPACING * MIN_SPACING;
-                let backwards = step.dot(self.tangents[kept - 1]) < 0.0;
+                let backwards = step.dot(self.tangents[kept - 1]) < 0.0
+                    && step.length_squared() < MAX_BACKSTEP * MAX_BACKSTEP
+                    && dropped_run < MAX_BACKSTEP_RUN;
                 if too_close || backwards {
                     if self.anchors[i] && !self.anchors[kept - 1] && !backwards {
                         // Keep the anchor instead of its near neighbour.
@@ -1385,9 +1533,13 @@ impl Workspace {
                         self.tangents[kept - 1] = self.tangents[i];
                         self.anchors[kept - 1] = true;
                     }
+                    if backwards && !too_close {
+                        dropped_run += 1;
+                    }
                     continue;
                 }
             }
+            dropped_run = 0;
             self.points[kept] = p;
             self.tangents[kept] = self.tangents[i];
             self.anchors[kept] = self.anchors[i];
@@ -1404,6 +1556,50 @@ impl Workspace {
         self.points.truncate(kept);
         self.tangents.truncate(kept);
         self.anchors.truncate(kept);
+        self.cut_small_loops();
+    }
+
+    /// Where the polyline crosses itself within `LOOP_REACH` points (a fold left by two
+    /// overshooting sides of a concave corner), the points inside the loop are replaced by
+    /// the crossing point.
+    fn cut_small_loops(&mut self) {
+        let n = self.points.len();
+        if n < 8 {
+            return;
+        }
+        let mut out_points = Vec::with_capacity(n);
+        let mut out_tangents = Vec::with_capacity(n);
+        let mut out_anchors = Vec::with_capacity(n);
+        let mut i = 0;
+        while i < n {
+            out_points.push(self.points[i]);
+            out_tangents.push(self.tangents[i]);
+            out_anchors.push(self.anchors[i]);
+            let (a, b) = (self.points[i], self.points[(i + 1) % n]);
+            let mut cut = None;
+            // Keep the loop search inside the list (it never wraps past the end), so the
+            // first point survives and the walk stays in order.
+            for j in (i + 2..(i + 2 + LOOP_REACH).min(n - 1)).rev() {
+                if let Some(x) = segment_crossing(a, b, self.points[j], self.points[j + 1]) {
+                    cut = Some((j, x));
+                    break;
+                }
+            }
+            match cut {
+                Some((j, x)) => {
+                    out_points.push(x);
+                    out_tangents.push(self.tangents[j]);
+                    out_anchors.push(false);
+                    i = j + 1;
+                }
+                None => i += 1,
+            }
+        }
+        if out_points.len() >= 3 {
+            self.points = out_points;
+            self.tangents = out_tangents;
+            self.anchors = out_anchors;
+        }
     }
 
     /// Marks as anchors the points where the outline turns by more than `ANCHOR_TURN_DEG`.
@@ -1646,6 +1842,19 @@ struct Line {
     direction: Point,
 }
 
+/// The crossing point of segments ab and cd when they properly intersect.
+fn segment_crossing(a: Point, b: Point, c: Point, d: Point) -> Option<Point> {
+    let r = b - a;
+    let q = d - c;
+    let denom = r.cross(q);
+    if denom.abs() < 1e-12 {
+        return None;
+    }
+    let t = (c - a).cross(q) / denom;
+    let u = (c - a).cross(r) / denom;
+    (t > 0.0 && t < 1.0 && u > 0.0 && u < 1.0).then(|| a + r * t)
+}
+
 /// Total least-squares line through at least two distinct points, with the largest
 /// distance of a point from it.
 fn fit_line(points: impl Iterator<Item = Point> + Clone) -> Option<(Line, f64)> {
@@ -1727,7 +1936,18 @@ fn refine_crack(bitmap: &Bitmap, crack: &Crack, estimator: EdgeEstimator) -> (Po
         EdgeEstimator::LevelCrossing => level_crossing(bitmap, crack.mid, n),
     };
     match s {
-        Some(s) if s.is_finite() && s.abs() <= MAX_SHIFT => (crack.mid + n * s, n),
+        // The edge must also stay where the thresholded pixels put it: within
+        // `MAX_CRACK_SHIFT` of the crack midpoint across the crack. Where the coverage is
+        // not a clean step from ink to paper (soft gradients, tinted fills, shading), the
+        // integral can move the edge a pixel or more into a region the mask calls the other
+        // side; the threshold crossing below cannot.
+        Some(s)
+            if s.is_finite()
+                && s.abs() <= MAX_SHIFT
+                && (n * s).dot(crack.normal).abs() <= MAX_CRACK_SHIFT =>
+        {
+            (crack.mid + n * s, n)
+        }
         _ => {
             // Fall back to the threshold crossing between the two pixel centres.
             let half = crack.normal * 0.5;
@@ -1902,8 +2122,12 @@ mod tests {
     #[test]
     fn coverage_integration_beats_the_threshold_crossing() {
         let (bm, centre, radius) = disk_bitmap(16);
-        let integral = extract_with(&bm, &opts(2.0), EdgeEstimator::CoverageIntegral).unwrap();
-        let crossing = extract_with(&bm, &opts(2.0), EdgeEstimator::LevelCrossing).unwrap();
+        let integral = extract_with(&bm, &opts(2.0), EdgeEstimator::CoverageIntegral)
+            .unwrap()
+            .contours;
+        let crossing = extract_with(&bm, &opts(2.0), EdgeEstimator::LevelCrossing)
+            .unwrap()
+            .contours;
         let (imax, imean) = circle_errors(&integral[0].points, centre, radius);
         let (cmax, cmean) = circle_errors(&crossing[0].points, centre, radius);
         eprintln!("integral {imax:.4}/{imean:.4}, crossing {cmax:.4}/{cmean:.4}");

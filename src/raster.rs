@@ -13,7 +13,7 @@
 //!   **is** the alpha: coverage = alpha. Colour is ignored, so a white logo on a transparent
 //!   background traces the same as a black one (the tempting alpha × (1 − luma) would make
 //!   white logos vanish). `invert` then traces the transparent part.
-//! * Otherwise coverage = 1 − luma (dark shapes on a light background), and `invert` makes it
+//! * Otherwise coverage = 1 − luma (Rec. 601 for colour images; dark shapes on a light background), and `invert` makes it
 //!   luma (light shapes on dark).
 //!
 //! Conversion goes through 32-bit floats, so 16-bit images keep their precision.
@@ -34,6 +34,8 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
+/// Rec. 601 luma weights of red, green and blue.
+const REC601: [f32; 3] = [0.299, 0.587, 0.114];
 /// Lowest threshold Otsu's method may choose, on the [0, 1] coverage scale.
 const OTSU_MIN: f64 = 0.2;
 /// Highest threshold Otsu's method may choose, on the [0, 1] coverage scale.
@@ -421,21 +423,24 @@ fn check_dimensions(width: u32, height: u32, max_pixels: u64) -> Result<()> {
 pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
     let (width, height) = img.dimensions();
     check_dimensions(width, height, opts.max_pixels)?;
-    let mut from_alpha = false;
-    let mut coverage: Vec<f32> = if img.color().has_alpha() {
-        let luma_alpha = img.to_luma_alpha32f().into_raw();
-        from_alpha = luma_alpha.chunks_exact(2).any(|p| p[1] < 1.0);
-        luma_alpha
-            .chunks_exact(2)
-            .map(|p| if from_alpha { p[1] } else { 1.0 - p[0] })
+    // (luma, alpha) per pixel. Colour goes through Rec. 601 luma, the weights of JPEG's Y
+    // channel and of most image tools' greyscale (the `image` crate's own conversion uses
+    // Rec. 709, which puts an orange or red shape on the other side of a threshold than
+    // the same picture in greyscale does in those tools).
+    let luma_alpha: Vec<f32> = if img.color().has_color() {
+        img.to_rgba32f()
+            .into_raw()
+            .chunks_exact(4)
+            .flat_map(|p| [REC601[0] * p[0] + REC601[1] * p[1] + REC601[2] * p[2], p[3]])
             .collect()
     } else {
-        let mut luma = img.to_luma32f().into_raw();
-        for v in &mut luma {
-            *v = 1.0 - *v;
-        }
-        luma
+        img.to_luma_alpha32f().into_raw()
     };
+    let from_alpha = img.color().has_alpha() && luma_alpha.chunks_exact(2).any(|p| p[1] < 1.0);
+    let mut coverage: Vec<f32> = luma_alpha
+        .chunks_exact(2)
+        .map(|p| if from_alpha { p[1] } else { 1.0 - p[0] })
+        .collect();
     if opts.invert {
         for v in &mut coverage {
             *v = 1.0 - *v;
