@@ -60,6 +60,9 @@ pub enum BreakReason {
     Fallback,
     /// Added by the fitting strategy to meet the tolerance.
     Split,
+    /// Added by the fidelity repair where the drawn outline left its data
+    /// ([`crate::fidelity`]).
+    Repair,
 }
 
 /// One break point of a contour.

@@ -20,6 +20,7 @@ pub mod contour;
 pub mod curve;
 pub mod error;
 pub mod export;
+pub mod fidelity;
 pub mod fit;
 pub mod geom;
 pub mod io;
@@ -30,6 +31,7 @@ pub mod plot;
 pub mod quad;
 pub mod raster;
 pub mod reduce;
+mod repair;
 pub mod report;
 pub mod stats;
 
@@ -37,6 +39,7 @@ pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};
 pub use crate::curve::{CubicBez, RationalCubic};
 pub use crate::error::{Error, Result};
+pub use crate::fidelity::Fidelity;
 pub use crate::fit::break_placement::Breaks;
 pub use crate::fit::meta::Search;
 pub use crate::fit::{FittedContour, FittedSegment, Joint, JointKind, SegmentError};
@@ -103,6 +106,9 @@ pub struct Config {
     /// Objective evaluations per movable smooth joint for `breaks = optimize`. Default:
     /// [`fit::break_placement::DEFAULT_BUDGET`].
     pub break_budget: u64,
+    /// Check the drawn outline against the input and repair what it lost or invented
+    /// ([`fidelity`]). Default: true.
+    pub check: bool,
 }
 
 impl Default for Config {
@@ -126,6 +132,7 @@ impl Default for Config {
             breaks: Breaks::Curvature,
             break_optimizer: fit::break_placement::DEFAULT_OPTIMIZER.to_string(),
             break_budget: fit::break_placement::DEFAULT_BUDGET,
+            check: true,
         }
     }
 }
@@ -214,6 +221,9 @@ pub struct TraceResult {
     pub image: ImageInfo,
     /// The fitted contours.
     pub contours: Vec<FittedContour>,
+    /// The end-to-end check of the drawn outline against the input (all zero and
+    /// `held = false` when the check was turned off).
+    pub fidelity: Fidelity,
     /// Wall time of the whole trace, in seconds (0 when timing is off).
     pub seconds: f64,
 }
@@ -252,16 +262,20 @@ pub fn trace_file(path: &Path, config: &Config) -> Result<TraceResult> {
 }
 
 /// Traces an already loaded bitmap.
+///
+/// With `config.check` (the default) the drawn outline is checked against the thresholded
+/// input and repaired where it lost or invented a part ([`fidelity`]); the verdict is in
+/// [`TraceResult::fidelity`].
 pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     config.validate()?;
     let started = Instant::now();
-    let contours = extract_contours(
+    let extraction = contour::extract_borders(
         bitmap,
         &ContourOptions {
             min_area: config.min_area,
         },
     )?;
-    if contours.is_empty() {
+    if extraction.contours.is_empty() {
         return Err(Error::NoForeground {
             threshold: bitmap.threshold(),
         });
@@ -275,24 +289,55 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         degree: config.merge_degree,
         tolerance: config.tolerance,
     });
-    let fitted = contours
+    // A contour that the repair traces again (`repairing`) is fitted by `lsq` alone: the
+    // stages after it are what may have lost the shape, and `lsq` holds the tolerance.
+    let fit_one = |seg: SegmentedContour, i: usize, repairing: bool| -> Result<FittedContour> {
+        let mut chain = fit::lsq::fit_contour(&seg, &lsq_options);
+        if repairing {
+            return Ok(chain);
+        }
+        if let Some(opts) = &placement_options {
+            chain = fit::break_placement::optimize_contour(&chain, opts, i)?;
+        }
+        let mut fitted = match &meta_options {
+            None => chain,
+            Some(opts) => fit::meta::fit_contour(&chain, opts, i)?,
+        };
+        if let Some(opts) = &merge_options {
+            fitted.merged = merge::outline::merge_contour(&fitted, opts);
+        }
+        Ok(fitted)
+    };
+    let mut fitted = extraction
+        .contours
         .iter()
         .enumerate()
-        .map(|(i, c)| {
-            let mut chain = fit::lsq::fit_contour(&find_breaks(c, &break_options), &lsq_options);
-            if let Some(opts) = &placement_options {
-                chain = fit::break_placement::optimize_contour(&chain, opts, i)?;
-            }
-            let mut fitted = match &meta_options {
-                None => chain,
-                Some(opts) => fit::meta::fit_contour(&chain, opts, i)?,
-            };
-            if let Some(opts) = &merge_options {
-                fitted.merged = merge::outline::merge_contour(&fitted, opts);
-            }
-            Ok(fitted)
-        })
+        .map(|(i, c)| fit_one(find_breaks(c, &break_options), i, false))
         .collect::<Result<Vec<FittedContour>>>()?;
+    let fidelity = if config.check {
+        let bound = lsq_options.export_bound;
+        let limits = fidelity::Limits {
+            deviation: if meta_options.is_none() {
+                // The fit's tolerance, the SVG's approximation, and the flattening of the
+                // drawn path.
+                config.tolerance + bound + 0.01
+            } else {
+                fidelity::SHAPE_LIMIT.max(config.tolerance)
+            },
+            region: config.min_area.max(2.0),
+            bound,
+        };
+        repair::check_and_repair(
+            bitmap,
+            &extraction,
+            &mut fitted,
+            limits,
+            &break_options,
+            &fit_one,
+        )?
+    } else {
+        Fidelity::default()
+    };
     let seconds = if config.timings {
         started.elapsed().as_secs_f64()
     } else {
@@ -308,6 +353,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             dark_border: bitmap.dark_border(),
         },
         contours: fitted,
+        fidelity,
         seconds,
     })
 }

@@ -2,7 +2,7 @@
 //! (one row per segment).
 //!
 //! The JSON document has the shape
-//! `{ "outlinefit_version", "config", "images": [ { "path", "image", "summary", "seconds",
+//! `{ "outlinefit_version", "config", "images": [ { "path", "image", "summary", "fidelity", "seconds",
 //! "contours": [ { "segments": [...], "joints": [...] } ] } ] }`; see the README for every
 //! field. Every number in it is reproducible from the configuration and seed except the
 //! `seconds` fields, which are 0 when timing is off (`--no-timings`).
@@ -137,6 +137,7 @@ struct ImageRow<'a> {
     path: &'a str,
     image: &'a crate::ImageInfo,
     summary: Summary,
+    fidelity: &'a crate::Fidelity,
     seconds: f64,
     contours: Vec<ContourRow<'a>>,
 }
@@ -225,6 +226,7 @@ pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bo
                 path,
                 image: &r.image,
                 summary: Summary::of(r),
+                fidelity: &r.fidelity,
                 seconds: r.seconds,
                 contours: r
                     .contours

@@ -1,6 +1,6 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
-use super::FitArgs;
+use super::{fidelity_problem, trace_warnings, FitArgs};
 use anyhow::{bail, Context};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -78,6 +78,11 @@ struct Row {
     curves: usize,
     sum_sq: f64,
     max_distance: f64,
+    /// The fidelity check: "yes", "no", or empty when it did not run.
+    held: &'static str,
+    max_deviation: f64,
+    largest_region: f64,
+    warnings: Vec<String>,
     seconds: f64,
 }
 
@@ -117,6 +122,9 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
                 bar.inc(1);
                 if row.status == "failed" {
                     bar.suspend(|| eprintln!("error: {}: {}", row.file, row.message));
+                }
+                for w in &row.warnings {
+                    bar.suspend(|| eprintln!("warning: {w}"));
                 }
                 row
             })
@@ -193,6 +201,10 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
         curves: 0,
         sum_sq: 0.0,
         max_distance: 0.0,
+        held: "",
+        max_deviation: 0.0,
+        largest_region: 0.0,
+        warnings: Vec::new(),
         seconds: 0.0,
     };
     if args.skip_existing && svg_path.exists() {
@@ -206,6 +218,11 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
                 .with_context(|| format!("cannot create {}", parent.display()))?;
         }
         let result = trace_file(&job.input, config)?;
+        if args.fit.strict {
+            if let Some(problem) = fidelity_problem(config, &result) {
+                bail!("{problem}; nothing written (--strict)");
+            }
+        }
         if !args.svg_only {
             let json = report::to_json(config, &[(&row.file, &result)], false);
             write_atomic(&with_suffix(&base, ".json"), json.as_bytes())?;
@@ -222,6 +239,12 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
             row.curves = result.curve_count();
             row.sum_sq = result.sum_sq();
             row.max_distance = result.max_distance();
+            if config.check {
+                row.held = if result.fidelity.held { "yes" } else { "no" };
+                row.max_deviation = result.fidelity.max_deviation;
+                row.largest_region = result.fidelity.largest_region;
+            }
+            row.warnings = trace_warnings(&row.file, config, &result);
             row.seconds = if config.timings {
                 started.elapsed().as_secs_f64()
             } else {
@@ -255,6 +278,9 @@ fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
         "curves",
         "sum_sq",
         "max_distance",
+        "fidelity_held",
+        "max_deviation",
+        "largest_region",
         "seconds",
         "error",
     ])?;
@@ -266,6 +292,9 @@ fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
             r.curves.to_string(),
             r.sum_sq.to_string(),
             r.max_distance.to_string(),
+            r.held.to_string(),
+            r.max_deviation.to_string(),
+            r.largest_region.to_string(),
             r.seconds.to_string(),
             r.message.clone(),
         ])?;

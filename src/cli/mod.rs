@@ -9,7 +9,7 @@ mod trace;
 
 use clap::builder::PossibleValuesParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use outlinefit::{Config, Search};
+use outlinefit::{Config, Search, TraceResult};
 use std::path::PathBuf;
 
 /// Trace bitmap outlines into G1-continuous rational cubic Bézier curves, with a
@@ -168,6 +168,16 @@ struct FitArgs {
     /// Objective evaluations per movable smooth joint with --breaks optimize.
     #[arg(long, default_value_t = outlinefit::fit::break_placement::DEFAULT_BUDGET, value_name = "N")]
     break_budget: u64,
+    /// Fail (exit 1, no SVG written) when the drawn outline does not match the input after
+    /// repair: a data point farther from the drawn path than the tolerance allows, or a
+    /// lost or invented region. Without it such an image gets a warning line and
+    /// `"held": false` in the report.
+    #[arg(long)]
+    strict: bool,
+    /// Skip the end-to-end check of the drawn outline against the input and its repairs
+    /// (faster; nothing then notices a lost or invented part).
+    #[arg(long, conflicts_with = "strict")]
+    no_check: bool,
 }
 
 impl FitArgs {
@@ -187,9 +197,59 @@ impl FitArgs {
             breaks: self.breaks.parse()?,
             break_optimizer: self.break_optimizer.clone(),
             break_budget: self.break_budget,
+            check: !self.no_check,
             ..self.shape.config()
         })
     }
+}
+
+/// The warnings a trace deserves, one line each (without the `warning: ` prefix): a
+/// polarity that looks wrong, and a drawn outline that does not match the input.
+pub(crate) fn trace_warnings(name: &str, config: &Config, result: &TraceResult) -> Vec<String> {
+    let mut out = Vec::new();
+    if result.image.dark_border {
+        out.push(if config.invert {
+            format!(
+                "{name}: most of the image border is foreground with --invert; if the shapes are dark on a light background, leave --invert out"
+            )
+        } else {
+            format!(
+                "{name}: most of the image border is foreground; if the shapes are light on a dark background, use --invert"
+            )
+        });
+    }
+    if let Some(problem) = fidelity_problem(config, result) {
+        out.push(format!("{name}: {problem}"));
+    }
+    out
+}
+
+/// What is wrong with the trace's fidelity, if the check ran and did not hold.
+pub(crate) fn fidelity_problem(config: &Config, result: &TraceResult) -> Option<String> {
+    let f = &result.fidelity;
+    if !config.check || f.held {
+        return None;
+    }
+    let mut parts = Vec::new();
+    if f.max_deviation > f.deviation_limit {
+        parts.push(format!(
+            "a data point lies {:.2} px from the drawn outline (limit {:.2} px)",
+            f.max_deviation, f.deviation_limit
+        ));
+    }
+    if f.largest_region > f.region_limit {
+        let at = f.region_box.map_or(String::new(), |[x0, y0, x1, y1]| {
+            format!(" at pixels ({x0},{y0})-({x1},{y1})")
+        });
+        parts.push(format!(
+            "a region of {:.0} px² is lost or invented{at}",
+            f.largest_region
+        ));
+    }
+    Some(format!(
+        "the drawn outline does not match the input: {} (see \"fidelity\" in the report)",
+        parts.join("; ")
+    ))
 }
 
 /// Parses the command line and runs it; returns the exit code.

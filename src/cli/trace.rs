@@ -1,6 +1,6 @@
 //! `outlinefit trace`: one image in, an SVG and optional reports out.
 
-use super::{default_svg_path, is_stdout, FitArgs};
+use super::{default_svg_path, fidelity_problem, is_stdout, trace_warnings, FitArgs};
 use anyhow::bail;
 use clap::Args;
 use outlinefit::export::overlay::{to_overlay_svg, OverlayOptions};
@@ -61,15 +61,17 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         ensure_output_dir_exists(p.parent().unwrap_or(Path::new("")))?;
     }
     let bitmap = raster::load(&args.input, &config.raster_options())?;
-    if bitmap.dark_border() {
-        eprintln!(
-            "warning: {}: most of the image border is foreground; if the shapes are light on a dark background, use --invert",
-            args.input.display()
-        );
-    }
     let result = trace_bitmap(&bitmap, &config)?;
-    let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
     let name = args.input.display().to_string();
+    if args.fit.strict {
+        if let Some(problem) = fidelity_problem(&config, &result) {
+            bail!("{name}: {problem}; nothing written (--strict)");
+        }
+    }
+    for w in trace_warnings(&name, &config, &result) {
+        eprintln!("warning: {w}");
+    }
+    let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
     // Reports first, the SVG last: a finished SVG means everything else is there too.
     if let Some(p) = &args.report {
         write_atomic(

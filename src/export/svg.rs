@@ -395,6 +395,7 @@ pub(crate) mod tests {
                 dark_border: false,
             },
             contours,
+            fidelity: crate::Fidelity::default(),
             seconds: 0.0,
         }
     }

@@ -1,0 +1,465 @@
+//! End-to-end fidelity check: what the SVG draws, measured against the input.
+//!
+//! Every stage before export can lose a part of the shape without noticing: edge
+//! refinement can drop a run of boundary points, a corner can be missed, a short segment
+//! that cannot be split can cut across its data, a speck can shrink below `--min-area`
+//! during refinement. This module looks only at the result, after the outline has been
+//! converted to the polynomial cubics the SVG draws:
+//!
+//! 1. **Deviation**: the distance from every boundary data point of a contour to the drawn
+//!    path of that contour (the path flattened to ≤ [`FLATTEN_STEP`] px chords). With the
+//!    default `lsq` fit the limit is the tolerance plus the SVG's approximation bound; a
+//!    metaheuristic fit promises no tolerance, and is held to [`SHAPE_LIMIT`].
+//! 2. **Disagreement**: the drawn shape is rasterized at the pixel centres (even-odd over
+//!    all contours, as the SVG's paths fill) and compared with the thresholded input. A
+//!    pixel where they disagree and whose centre lies more than [`SHAPE_LIMIT`] (1 px) from
+//!    the drawn outline is a *far* pixel: at most a pixel from the outline, a disagreement
+//!    is only where the edge crosses the pixel. Far pixels are grouped into 8-connected
+//!    regions; a region larger than max(`--min-area`, 2) px² is a lost or invented part
+//!    (smaller ones are specks that `--min-area` drops on purpose).
+//!
+//! [`crate::trace_bitmap`] repairs what fails (see [`Repair`]) and reports the final check
+//! in [`Fidelity`].
+
+use crate::export::svg::drawing_pieces;
+use crate::fit::FittedContour;
+use crate::geom::Point;
+use crate::raster::Bitmap;
+use serde::Serialize;
+use std::collections::HashSet;
+
+/// Largest chord (px) of the flattened drawn path.
+pub const FLATTEN_STEP: f64 = 0.3;
+
+/// Distance (px) from the drawn outline beyond which a disagreeing pixel is a lost or
+/// invented part, and the deviation limit of fits that promise no tolerance.
+pub const SHAPE_LIMIT: f64 = 1.0;
+
+/// Cell size (px) of the spatial grid of drawn edges.
+const CELL: f64 = 4.0;
+
+/// The verdict on one traced image, as reported.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Fidelity {
+    /// True when every data point is within `deviation_limit` of the drawn outline and no
+    /// region of disagreement exceeds `region_limit`.
+    pub held: bool,
+    /// Largest distance (px) from a boundary data point to the drawn outline.
+    pub max_deviation: f64,
+    /// The deviation the trace promises (px): the tolerance plus the SVG approximation
+    /// bound for `lsq`, [`SHAPE_LIMIT`] for metaheuristic fits.
+    pub deviation_limit: f64,
+    /// Area (px², counted in pixels) of the largest region where the drawn shape and the
+    /// thresholded input disagree by more than [`SHAPE_LIMIT`] from the outline.
+    pub largest_region: f64,
+    /// Largest region area accepted: max(`--min-area`, 2) px².
+    pub region_limit: f64,
+    /// Bounding box `[x0, y0, x1, y1]` (pixels, inclusive) of the largest region, if any.
+    pub region_box: Option<[u32; 4]>,
+    /// Contours traced again by the repair.
+    pub repaired_contours: usize,
+    /// Shapes or holes the first trace had lost, restored by the repair.
+    pub restored_contours: usize,
+}
+
+/// The findings of one check, with what the repair needs.
+#[derive(Debug, Default)]
+pub(crate) struct Findings {
+    /// Largest data-point deviation over every contour.
+    pub(crate) max_deviation: f64,
+    /// Per contour: indices of the data points beyond the deviation limit that are local
+    /// maxima of the deviation (where a corner or a split is missing).
+    pub(crate) bad_points: Vec<Vec<usize>>,
+    /// Regions above the limit.
+    pub(crate) regions: Vec<Region>,
+    /// Area and bounding box of the largest region (above the limit or not).
+    pub(crate) largest: (f64, Option<[u32; 4]>),
+}
+
+/// A connected region of far pixels.
+#[derive(Debug)]
+pub(crate) struct Region {
+    /// Pixel indices (row × width + column).
+    pub(crate) pixels: Vec<u32>,
+    /// Contours whose drawn outline passes within [`REGION_REACH`] px of the region.
+    pub(crate) near_contours: Vec<usize>,
+}
+
+/// How far (px) from a region a contour counts as responsible for it.
+const REGION_REACH: f64 = 3.0;
+
+impl Findings {
+    /// True when nothing is beyond the limits.
+    pub(crate) fn held(&self) -> bool {
+        self.regions.is_empty() && self.bad_points.iter().all(Vec::is_empty)
+    }
+}
+
+/// The limits of a check.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Limits {
+    /// Largest data-point deviation (px).
+    pub(crate) deviation: f64,
+    /// Largest region area (px²).
+    pub(crate) region: f64,
+    /// Approximation bound of the SVG's cubics (px).
+    pub(crate) bound: f64,
+}
+
+/// An edge of the flattened drawn outline.
+#[derive(Clone, Copy, Debug)]
+struct Edge {
+    a: Point,
+    b: Point,
+    contour: u32,
+}
+
+/// Distance from `p` to segment ab.
+fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + ab * t)
+}
+
+/// The drawn outline of every contour as closed polylines.
+fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
+    contours
+        .iter()
+        .map(|c| {
+            if c.segments.is_empty() {
+                return Vec::new();
+            }
+            let mut out = Vec::new();
+            for (start, cubics) in drawing_pieces(c, bound) {
+                out.push(start);
+                for cubic in cubics {
+                    let p = cubic.points;
+                    let hull = p[0].distance(p[1]) + p[1].distance(p[2]) + p[2].distance(p[3]);
+                    let steps = ((hull / FLATTEN_STEP).ceil() as usize).clamp(1, 4096);
+                    for k in 1..=steps {
+                        out.push(cubic.eval(k as f64 / steps as f64));
+                    }
+                }
+            }
+            out.retain(|p| p.is_finite());
+            out
+        })
+        .collect()
+}
+
+/// A uniform grid of edges (compressed rows: `start[cell]..start[cell + 1]` index `items`).
+struct EdgeGrid {
+    edges: Vec<Edge>,
+    cols: i64,
+    rows: i64,
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl EdgeGrid {
+    fn new(polylines: &[Vec<Point>], width: u32, height: u32) -> EdgeGrid {
+        let mut edges = Vec::new();
+        for (i, line) in polylines.iter().enumerate() {
+            let n = line.len();
+            if n < 2 {
+                continue;
+            }
+            for k in 0..n {
+                edges.push(Edge {
+                    a: line[k],
+                    b: line[(k + 1) % n],
+                    contour: i as u32,
+                });
+            }
+        }
+        let cols = (f64::from(width) / CELL).ceil() as i64 + 1;
+        let rows = (f64::from(height) / CELL).ceil() as i64 + 1;
+        let cells = (cols * rows) as usize;
+        let range = |e: &Edge| {
+            let c0 = ((e.a.x.min(e.b.x) / CELL).floor() as i64).clamp(0, cols - 1);
+            let c1 = ((e.a.x.max(e.b.x) / CELL).floor() as i64).clamp(0, cols - 1);
+            let r0 = ((e.a.y.min(e.b.y) / CELL).floor() as i64).clamp(0, rows - 1);
+            let r1 = ((e.a.y.max(e.b.y) / CELL).floor() as i64).clamp(0, rows - 1);
+            (c0, c1, r0, r1)
+        };
+        let mut count = vec![0u32; cells + 1];
+        for e in &edges {
+            let (c0, c1, r0, r1) = range(e);
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    count[(r * cols + c) as usize + 1] += 1;
+                }
+            }
+        }
+        for k in 0..cells {
+            count[k + 1] += count[k];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; count[cells] as usize];
+        for (i, e) in edges.iter().enumerate() {
+            let (c0, c1, r0, r1) = range(e);
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    let cell = (r * cols + c) as usize;
+                    items[fill[cell] as usize] = i as u32;
+                    fill[cell] += 1;
+                }
+            }
+        }
+        EdgeGrid {
+            edges,
+            cols,
+            rows,
+            start: count,
+            items,
+        }
+    }
+
+    /// Nearest edge to `p` within `reach` px (of contour `only`, if given): distance and
+    /// contour, or `None` when there is none that close.
+    fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, u32)> {
+        let c = (p.x / CELL).floor() as i64;
+        let r = (p.y / CELL).floor() as i64;
+        let k = (reach / CELL).ceil() as i64;
+        let mut best: Option<(f64, u32)> = None;
+        for row in (r - k).max(0)..=(r + k).min(self.rows - 1) {
+            for col in (c - k).max(0)..=(c + k).min(self.cols - 1) {
+                let cell = (row * self.cols + col) as usize;
+                for &i in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
+                    let e = self.edges[i as usize];
+                    if only.is_some_and(|o| o != e.contour) {
+                        continue;
+                    }
+                    let d = segment_distance(p, e.a, e.b);
+                    if d <= reach && best.is_none_or(|(bd, _)| d < bd) {
+                        best = Some((d, e.contour));
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Distance from `p` to a closed polyline (brute force).
+fn polyline_distance(p: Point, line: &[Point]) -> f64 {
+    let n = line.len();
+    (0..n)
+        .map(|k| segment_distance(p, line[k], line[(k + 1) % n]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Checks the drawn outline of `contours` against `bitmap` (see the module docs).
+pub(crate) fn check(bitmap: &Bitmap, contours: &[FittedContour], limits: Limits) -> Findings {
+    let polylines = flatten(contours, limits.bound);
+    let grid = EdgeGrid::new(&polylines, bitmap.width, bitmap.height);
+
+    // 1. Deviation of every data point from its own contour's drawn path.
+    let mut max_deviation: f64 = 0.0;
+    let mut bad_points = Vec::with_capacity(contours.len());
+    let reach = limits.deviation.max(SHAPE_LIMIT) * 2.0;
+    for (i, c) in contours.iter().enumerate() {
+        if polylines[i].is_empty() {
+            bad_points.push(Vec::new());
+            continue;
+        }
+        let deviation: Vec<f64> = c
+            .points
+            .iter()
+            .map(|&p| match grid.nearest(p, reach, Some(i as u32)) {
+                Some((d, _)) => d,
+                None => polyline_distance(p, &polylines[i]),
+            })
+            .collect();
+        let n = deviation.len();
+        let mut bad = Vec::new();
+        for k in 0..n {
+            let d = deviation[k];
+            max_deviation = max_deviation.max(d);
+            if d > limits.deviation
+                && d >= deviation[(k + n - 1) % n]
+                && d >= deviation[(k + 1) % n]
+            {
+                bad.push(k);
+            }
+        }
+        bad_points.push(bad);
+    }
+
+    // 2. Disagreement between the drawn shape and the thresholded input.
+    let (w, h) = (bitmap.width as usize, bitmap.height as usize);
+    let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); h];
+    for e in &grid.edges {
+        let (a, b) = (e.a, e.b);
+        if a.y == b.y {
+            continue;
+        }
+        let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+        // Rows whose centre y = r + 0.5 lies in [lo.y, hi.y).
+        let r0 = (lo.y - 0.5).ceil().max(0.0);
+        let r1 = (hi.y - 0.5).ceil().min(h as f64);
+        let mut r = r0;
+        while r < r1 {
+            let y = r + 0.5;
+            let x = lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
+            crossings[r as usize].push(x);
+            r += 1.0;
+        }
+    }
+    let coverage = bitmap.coverage();
+    let threshold = bitmap.threshold();
+    let mut far: HashSet<u32> = HashSet::new();
+    for (row, xs) in crossings.iter_mut().enumerate() {
+        xs.sort_by(f64::total_cmp);
+        let mut next = 0;
+        let mut inside = false;
+        for col in 0..w {
+            let x = col as f64 + 0.5;
+            while next < xs.len() && xs[next] <= x {
+                inside = !inside;
+                next += 1;
+            }
+            let fg = f64::from(coverage[row * w + col]) >= threshold;
+            if fg != inside {
+                let centre = Point::new(x, row as f64 + 0.5);
+                if grid.nearest(centre, SHAPE_LIMIT, None).is_none() {
+                    far.insert((row * w + col) as u32);
+                }
+            }
+        }
+    }
+    let mut regions = Vec::new();
+    let mut largest: (f64, Option<[u32; 4]>) = (0.0, None);
+    let mut seen: HashSet<u32> = HashSet::new();
+    let mut sorted: Vec<u32> = far.iter().copied().collect();
+    sorted.sort_unstable();
+    for &seed in &sorted {
+        if !seen.insert(seed) {
+            continue;
+        }
+        let mut pixels = vec![seed];
+        let mut k = 0;
+        while k < pixels.len() {
+            let p = pixels[k] as usize;
+            let (col, row) = ((p % w) as i64, (p / w) as i64);
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (c, r) = (col + dx, row + dy);
+                    if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
+                        continue;
+                    }
+                    let q = (r as usize * w + c as usize) as u32;
+                    if far.contains(&q) && seen.insert(q) {
+                        pixels.push(q);
+                    }
+                }
+            }
+            k += 1;
+        }
+        let area = pixels.len() as f64;
+        if area > largest.0 {
+            let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+            for &p in &pixels {
+                let (c, r) = (p % w as u32, p / w as u32);
+                x0 = x0.min(c);
+                y0 = y0.min(r);
+                x1 = x1.max(c);
+                y1 = y1.max(r);
+            }
+            largest = (area, Some([x0, y0, x1, y1]));
+        }
+        if area > limits.region {
+            let mut near: HashSet<u32> = HashSet::new();
+            for &p in &pixels {
+                let centre =
+                    Point::new((p as usize % w) as f64 + 0.5, (p as usize / w) as f64 + 0.5);
+                if let Some((_, c)) = grid.nearest(centre, REGION_REACH, None) {
+                    near.insert(c);
+                }
+            }
+            let mut near_contours: Vec<usize> = near.into_iter().map(|c| c as usize).collect();
+            near_contours.sort_unstable();
+            pixels.sort_unstable();
+            regions.push(Region {
+                pixels,
+                near_contours,
+            });
+        }
+    }
+    Findings {
+        max_deviation,
+        bad_points,
+        regions,
+        largest,
+    }
+}
+
+/// How far the repair has gone with one contour.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Repair {
+    /// The normal trace.
+    #[default]
+    None,
+    /// Same data points, corners added where the drawn path left them.
+    Corners,
+    /// Data points traced again from the thresholded pixels (bilevel regression).
+    PixelSmoothed,
+    /// The pixel-edge midpoints themselves, cut at the corners of their polygon.
+    PixelRaw,
+}
+
+impl Repair {
+    /// The next step after this one, `None` past the last.
+    pub(crate) fn next(self, has_bad_points: bool) -> Option<Repair> {
+        match self {
+            Repair::None if has_bad_points => Some(Repair::Corners),
+            Repair::None | Repair::Corners => Some(Repair::PixelSmoothed),
+            Repair::PixelSmoothed => Some(Repair::PixelRaw),
+            Repair::PixelRaw => None,
+        }
+    }
+}
+
+/// Indices of the polygon vertices that Douglas–Peucker keeps at `tolerance` px on a
+/// closed polyline, always at least two (the first point and the farthest from it).
+pub(crate) fn polygon_corners(points: &[Point], tolerance: f64) -> Vec<usize> {
+    let n = points.len();
+    if n < 3 {
+        return (0..n).collect();
+    }
+    let far = (1..n)
+        .max_by(|&a, &b| {
+            points[a]
+                .distance(points[0])
+                .total_cmp(&points[b].distance(points[0]))
+        })
+        .unwrap_or(n / 2);
+    let mut keep = vec![false; n];
+    keep[0] = true;
+    keep[far] = true;
+    let mut stack = vec![(0usize, far), (far, n)];
+    while let Some((a, b)) = stack.pop() {
+        if b - a < 2 {
+            continue;
+        }
+        let (pa, pb) = (points[a], points[b % n]);
+        let mut worst = (0.0, a);
+        for (k, &p) in points.iter().enumerate().take(b).skip(a + 1) {
+            let d = segment_distance(p, pa, pb);
+            if d > worst.0 {
+                worst = (d, k);
+            }
+        }
+        if worst.0 > tolerance {
+            keep[worst.1] = true;
+            stack.push((a, worst.1));
+            stack.push((worst.1, b));
+        }
+    }
+    (0..n).filter(|&k| keep[k]).collect()
+}

@@ -1,0 +1,205 @@
+//! Repair of what the fidelity check ([`crate::fidelity`]) finds: each contour that leaves
+//! its data or sits beside a lost or invented region goes one step further along
+//! [`Repair`], and borders whose shape or hole was lost altogether are traced again from
+//! the pixels, until the check holds or nothing is left to try.
+//!
+//! The steps, per contour:
+//! 1. *Corners*: the same data points, with a corner (G0 joint) at every point where the
+//!    drawn path left them, so that a short run that could not be split, or a corner the
+//!    curvature analysis missed, is fitted on both sides of it.
+//! 2. *Pixel trace*: the data points traced again from the thresholded pixels alone (the
+//!    bilevel regression), when grey-level refinement moved them off the pixels.
+//! 3. *Pixel polygon*: the pixel-edge midpoints themselves, cut at the vertices of their
+//!    Douglas–Peucker polygon: exact to the mask, at the cost of more segments.
+
+use crate::breaks::{find_breaks, Break, BreakOptions, BreakReason, SegmentedContour};
+use crate::contour::{Extraction, PixelTrace};
+use crate::error::Result;
+use crate::fidelity::{check, polygon_corners, Fidelity, Limits, Repair};
+use crate::fit::{FittedContour, JointKind};
+use crate::raster::Bitmap;
+use std::collections::{BTreeSet, HashSet};
+
+/// Rounds of check and repair before giving up.
+const MAX_ROUNDS: usize = 4;
+
+/// Tolerance (px) of the pixel polygon's corners: the midpoints of a digital straight line
+/// lie within half a pixel of it.
+const POLYGON_TOLERANCE: f64 = 0.45;
+
+/// Checks `contours` and repairs them in place; returns the final verdict. `fit` fits one
+/// segmented contour as the trace does (its second argument is the contour's index, its
+/// third whether the fit is a repair, which the trace fits by `lsq` alone).
+pub(crate) fn check_and_repair(
+    bitmap: &Bitmap,
+    extraction: &Extraction,
+    contours: &mut Vec<FittedContour>,
+    limits: Limits,
+    break_options: &BreakOptions,
+    fit: &dyn Fn(SegmentedContour, usize, bool) -> Result<FittedContour>,
+) -> Result<Fidelity> {
+    let mut level = vec![Repair::None; contours.len()];
+    let mut border_of = extraction.border_of.clone();
+    let mut repaired: HashSet<usize> = HashSet::new();
+    let mut restored = 0usize;
+    let mut findings = check(bitmap, contours, limits);
+    for _ in 0..MAX_ROUNDS {
+        if findings.held() {
+            break;
+        }
+        let mut targets: BTreeSet<usize> = BTreeSet::new();
+        for (i, bad) in findings.bad_points.iter().enumerate() {
+            if !bad.is_empty() {
+                targets.insert(i);
+            }
+        }
+        for region in &findings.regions {
+            targets.extend(region.near_contours.iter().copied());
+        }
+        let mut progressed = false;
+        for i in targets {
+            let bad = &findings.bad_points[i];
+            let Some(next) = level[i].next(!bad.is_empty()) else {
+                continue;
+            };
+            let seg = match next {
+                Repair::None => continue,
+                Repair::Corners => with_corners(&contours[i], bad),
+                Repair::PixelSmoothed | Repair::PixelRaw => {
+                    let how = if next == Repair::PixelRaw {
+                        PixelTrace::Raw
+                    } else {
+                        PixelTrace::Smoothed
+                    };
+                    let Some(c) = extraction.pixel_contour(border_of[i], how, contours[i].parent)
+                    else {
+                        continue;
+                    };
+                    if next == Repair::PixelRaw {
+                        polygon_segmented(c.points, c.is_hole, c.parent)
+                    } else {
+                        find_breaks(&c, break_options)
+                    }
+                }
+            };
+            contours[i] = fit(seg, i, true)?;
+            level[i] = next;
+            repaired.insert(i);
+            progressed = true;
+        }
+        // Shapes and holes lost altogether: borders that touch a region and have no
+        // contour.
+        let mut lost: BTreeSet<usize> = BTreeSet::new();
+        let kept: HashSet<usize> = border_of.iter().copied().collect();
+        for region in &findings.regions {
+            let pixels: HashSet<u32> = region.pixels.iter().copied().collect();
+            for (b, border) in extraction.borders.iter().enumerate() {
+                if !kept.contains(&b)
+                    && border.pixel_area() >= limits.region
+                    && border.touches(&pixels, bitmap.width)
+                {
+                    lost.insert(b);
+                }
+            }
+        }
+        for b in lost {
+            // Restore the enclosing borders first, so the parent index exists.
+            let mut chain = vec![b];
+            while let Some(p) = extraction.borders[*chain.last().unwrap_or(&b)].parent {
+                if border_of.contains(&p) || chain.contains(&p) {
+                    break;
+                }
+                chain.push(p);
+            }
+            for &b in chain.iter().rev() {
+                if border_of.contains(&b) {
+                    continue;
+                }
+                let parent = extraction.borders[b]
+                    .parent
+                    .and_then(|p| border_of.iter().position(|&x| x == p));
+                let Some(c) = extraction.pixel_contour(b, PixelTrace::Smoothed, parent) else {
+                    continue;
+                };
+                let index = contours.len();
+                contours.push(fit(find_breaks(&c, break_options), index, true)?);
+                border_of.push(b);
+                level.push(Repair::PixelSmoothed);
+                restored += 1;
+                progressed = true;
+            }
+        }
+        if !progressed {
+            break;
+        }
+        findings = check(bitmap, contours, limits);
+    }
+    Ok(Fidelity {
+        held: findings.held(),
+        max_deviation: findings.max_deviation,
+        deviation_limit: limits.deviation,
+        largest_region: findings.largest.0,
+        region_limit: limits.region,
+        region_box: findings.largest.1,
+        repaired_contours: repaired.len(),
+        restored_contours: restored,
+    })
+}
+
+/// The contour's own points and joints, with a corner added at each of `bad`.
+fn with_corners(contour: &FittedContour, bad: &[usize]) -> SegmentedContour {
+    let mut breaks: Vec<Break> = contour
+        .joints
+        .iter()
+        .map(|j| Break {
+            index: j.index,
+            kind: j.kind,
+            reason: match j.kind {
+                JointKind::Corner => BreakReason::Corner,
+                JointKind::Smooth => BreakReason::Split,
+            },
+        })
+        .collect();
+    for &k in bad {
+        match breaks.iter_mut().find(|b| b.index == k) {
+            Some(b) => {
+                b.kind = JointKind::Corner;
+                b.reason = BreakReason::Repair;
+            }
+            None => breaks.push(Break {
+                index: k,
+                kind: JointKind::Corner,
+                reason: BreakReason::Repair,
+            }),
+        }
+    }
+    breaks.sort_by_key(|b| b.index);
+    SegmentedContour {
+        points: contour.points.clone(),
+        is_hole: contour.is_hole,
+        parent: contour.parent,
+        breaks,
+    }
+}
+
+/// Pixel-edge midpoints cut into straight runs at the corners of their polygon.
+fn polygon_segmented(
+    points: Vec<crate::geom::Point>,
+    is_hole: bool,
+    parent: Option<usize>,
+) -> SegmentedContour {
+    let breaks = polygon_corners(&points, POLYGON_TOLERANCE)
+        .into_iter()
+        .map(|index| Break {
+            index,
+            kind: JointKind::Corner,
+            reason: BreakReason::Repair,
+        })
+        .collect();
+    SegmentedContour {
+        points,
+        is_hole,
+        parent,
+        breaks,
+    }
+}
