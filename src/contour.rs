@@ -435,6 +435,75 @@ impl Extraction {
     }
 }
 
+impl Extraction {
+    /// The pixels of the shapes and holes dropped on purpose (enclosing less than
+    /// `min_area` px²), with their components' pixels (8-connected for shapes, 4-connected
+    /// for holes), as row × `width` + column indices: where the drawn outline rightly
+    /// disagrees with the mask.
+    pub(crate) fn dropped_pixels(
+        &self,
+        min_area: f64,
+        width: u32,
+    ) -> std::collections::HashSet<u32> {
+        let kept: std::collections::HashSet<usize> = self.border_of.iter().copied().collect();
+        let mut out = std::collections::HashSet::new();
+        // A component enclosing less than `min_area` has few pixels; the cap only guards
+        // against a border that encloses much more than its area says.
+        let cap = (4.0 * min_area) as usize + 64;
+        for (b, border) in self.borders.iter().enumerate() {
+            if kept.contains(&b) || border.pixel_area() >= min_area {
+                continue;
+            }
+            let shape = !border.is_hole;
+            let mut stack: Vec<(i64, i64)> = border
+                .cracks
+                .iter()
+                .map(|k| {
+                    if shape {
+                        k.inside
+                    } else {
+                        (
+                            k.inside.0 + k.normal.x as i64,
+                            k.inside.1 + k.normal.y as i64,
+                        )
+                    }
+                })
+                .collect();
+            let mut seen: std::collections::HashSet<(i64, i64)> = std::collections::HashSet::new();
+            while let Some((c, r)) = stack.pop() {
+                if seen.len() > cap {
+                    break;
+                }
+                if c < 0 || r < 0 || c >= i64::from(width) || r >= self.mask.height - 2 {
+                    continue;
+                }
+                if self.mask.is_foreground((c + 1, r + 1)) != shape || !seen.insert((c, r)) {
+                    continue;
+                }
+                for (dc, dr) in [
+                    (1, 0),
+                    (-1, 0),
+                    (0, 1),
+                    (0, -1),
+                    (1, 1),
+                    (1, -1),
+                    (-1, 1),
+                    (-1, -1),
+                ] {
+                    if shape || dc == 0 || dr == 0 {
+                        stack.push((c + dc, r + dr));
+                    }
+                }
+            }
+            out.extend(
+                seen.into_iter()
+                    .filter_map(|(c, r)| u32::try_from(r * i64::from(width) + c).ok()),
+            );
+        }
+        out
+    }
+}
+
 /// [`extract_contours`] keeping the borders.
 pub(crate) fn extract_borders(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Extraction> {
     extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)
@@ -516,6 +585,8 @@ fn extract_with(
             } else {
                 work.refined_outline(bitmap, &cracks, estimator)
             };
+            let mut points = points;
+            extend_spikes(&mut points, bitmap);
             finish(points, is_hole, border.parent, opts.min_area)
         };
         traced.push(contour);
@@ -592,6 +663,175 @@ fn smoothed_cracks(cracks: &[Crack]) -> Vec<Point> {
         std::mem::swap(&mut pts, &mut next);
     }
     pts
+}
+
+/// Sharpest turn (degrees, over chords of `SPIKE_REACH` px) that counts as a spike tip.
+const SPIKE_TURN_DEG: f64 = 100.0;
+/// Arc length (px) to the chord ends of the spike detector.
+const SPIKE_REACH: f64 = 2.0;
+/// Arc length (px) next to a tip left out of its side lines (rounded, or thinner than a
+/// pixel so that its edge is biased).
+const SPIKE_SKIP: f64 = 1.5;
+/// Arc length (px) of each side line of a spike.
+const SPIKE_SIDE: f64 = 5.0;
+/// Largest distance (px) of a side point from its line.
+const SPIKE_RESIDUAL: f64 = 0.2;
+/// Longest extension (px) of a tip along its sides, with grey-level evidence.
+const SPIKE_MAX_EXTENSION: f64 = 4.0;
+/// Longest extension (px) of a tip of a bilevel image, which shows no evidence beyond
+/// the last pixel (side lines that meet up to three times farther are followed this far).
+const SPIKE_MAX_EXTENSION_BILEVEL: f64 = 2.0;
+
+/// Extends the tips of spikes (and the ends of slits) that thresholding and smoothing cut
+/// short: where the outline turns by more than `SPIKE_TURN_DEG` and both sides are
+/// straight beyond the tip, the tip moves to the intersection of the side lines, if the
+/// coverage between the old and the new tip shows ink (paper, for a slit) fading towards
+/// it. On a bilevel image, whose pixels show nothing thinner than a pixel, the move is
+/// shorter. Measured on a 40° needle: the tip comes back from 3 px short to within 1 px.
+fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
+    let n = points.len();
+    if n < 12 {
+        return;
+    }
+    let mut arc = Vec::with_capacity(n + 1);
+    arc.push(0.0);
+    for i in 0..n {
+        arc.push(arc[i] + points[i].distance(points[(i + 1) % n]));
+    }
+    let total = arc[n];
+    if total < 4.0 * (SPIKE_SKIP + SPIKE_SIDE) {
+        return;
+    }
+    let nn = n as i64;
+    let s = |k: i64| arc[k.rem_euclid(nn) as usize] + total * k.div_euclid(nn) as f64;
+    let at = |k: i64| points[k.rem_euclid(nn) as usize];
+    let back_by = |i: i64, len: f64| {
+        let mut k = i - 1;
+        while k > i - nn && s(i) - s(k) < len {
+            k -= 1;
+        }
+        k
+    };
+    let ahead_by = |i: i64, len: f64| {
+        let mut k = i + 1;
+        while k < i + nn && s(k) - s(i) < len {
+            k += 1;
+        }
+        k
+    };
+    let turn: Vec<f64> = (0..nn)
+        .map(|i| {
+            turn_angle(
+                at(i) - at(back_by(i, SPIKE_REACH)),
+                at(ahead_by(i, SPIKE_REACH)) - at(i),
+            )
+        })
+        .collect();
+    let limit = SPIKE_TURN_DEG.to_radians();
+    let max_move = if bitmap.is_bilevel() {
+        SPIKE_MAX_EXTENSION_BILEVEL
+    } else {
+        SPIKE_MAX_EXTENSION
+    };
+    // (first replaced unrolled index, count, new tip)
+    let mut edits: Vec<(i64, i64, Point)> = Vec::new();
+    let mut last_end = i64::MIN;
+    for i in 0..nn {
+        let t = turn[i as usize];
+        if t < limit {
+            continue;
+        }
+        let (b, a) = (back_by(i, SPIKE_REACH), ahead_by(i, SPIKE_REACH));
+        let t_at = |k: i64| turn[k.rem_euclid(nn) as usize];
+        if !((b + 1..i).all(|k| t > t_at(k)) && (i + 1..a).all(|k| t >= t_at(k))) {
+            continue;
+        }
+        let inner_back = back_by(i, SPIKE_SKIP);
+        let outer_back = back_by(i, SPIKE_SKIP + SPIKE_SIDE);
+        let inner_ahead = ahead_by(i, SPIKE_SKIP);
+        let outer_ahead = ahead_by(i, SPIKE_SKIP + SPIKE_SIDE);
+        if outer_back <= last_end || inner_back - outer_back < 3 || outer_ahead - inner_ahead < 3 {
+            continue;
+        }
+        let (Some((la, ra)), Some((lb, rb))) = (
+            fit_line((outer_back..=inner_back).map(at)),
+            fit_line((inner_ahead..=outer_ahead).map(at)),
+        ) else {
+            continue;
+        };
+        if ra > SPIKE_RESIDUAL || rb > SPIKE_RESIDUAL {
+            continue;
+        }
+        let cross = la.direction.cross(lb.direction);
+        if cross.abs() < 1e-6 {
+            continue;
+        }
+        let x = la.origin + la.direction * ((lb.origin - la.origin).cross(lb.direction) / cross);
+        let tip = at(i);
+        let reach = x.distance(tip);
+        if !x.is_finite() || reach > 3.0 * max_move || reach < 0.25 {
+            continue;
+        }
+        if reach > max_move && !bitmap.is_bilevel() {
+            continue;
+        }
+        // The new tip must lie ahead of the old one, away from both sides.
+        let Some(u) = unit(x - tip) else {
+            continue;
+        };
+        let mid_sides = (at(inner_back) + at(inner_ahead)) * 0.5;
+        if (tip - mid_sides).dot(u) <= 0.0 {
+            continue;
+        }
+        if !bitmap.is_bilevel() {
+            // Ink (or paper, for a slit) must fade from the old tip towards the new one.
+            let inner = bitmap.sample(tip - u * 0.75) >= bitmap.threshold();
+            let mid = bitmap.sample((tip + x) * 0.5);
+            let beyond = bitmap.sample(x + u * 1.0);
+            let fades = if inner {
+                mid > beyond + 0.05 && mid > 0.05
+            } else {
+                mid + 0.05 < beyond && mid < 0.95
+            };
+            if !fades {
+                continue;
+            }
+        }
+        // On a bilevel image the side lines near a thin tip lean inwards (the last pixels
+        // are thinner than the spike), so their intersection overshoots: go at most
+        // `max_move` towards it.
+        let x = tip + u * reach.min(max_move);
+        edits.push((inner_back + 1, inner_ahead - inner_back - 1, x));
+        last_end = inner_ahead;
+    }
+    if edits.len() > 1 {
+        let (first_start, _, _) = edits[0];
+        let (last_start, last_count, _) = edits[edits.len() - 1];
+        if last_start + last_count > first_start + nn {
+            edits.pop();
+        }
+    }
+    if edits.is_empty() {
+        return;
+    }
+    let mut remove = vec![false; n];
+    let mut insert_at = vec![None; n];
+    for &(first, count, x) in &edits {
+        for k in first..first + count {
+            remove[k.rem_euclid(nn) as usize] = true;
+        }
+        insert_at[first.rem_euclid(nn) as usize] = Some(x);
+    }
+    let mut out = Vec::with_capacity(n);
+    for j in 0..n {
+        if let Some(x) = insert_at[j] {
+            out.push(x);
+        }
+        if !remove[j] {
+            out.push(points[j]);
+        }
+    }
+    *points = out;
 }
 
 /// Orients a finished outline and applies the size rules; `None` when it is dropped.

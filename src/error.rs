@@ -47,10 +47,10 @@ pub enum Error {
     },
     /// Nothing was found to trace: every pixel is background, or every shape is smaller than
     /// the speck size.
-    #[error("no shape found: the image is all background at threshold {threshold:.3} (try --invert or --threshold)")]
+    #[error("no shape found: nothing is foreground at {threshold} or larger than the minimum area (try --invert, --threshold or --min-area)")]
     NoForeground {
-        /// The coverage threshold that was used, in [0, 1].
-        threshold: f64,
+        /// The threshold that was used, as a user reads it (e.g. "luminance below 136.0").
+        threshold: String,
     },
     /// An output could not be written.
     #[error("cannot write {}: {source}", path.display())]

@@ -255,7 +255,13 @@ fn polyline_distance(p: Point, line: &[Point]) -> f64 {
 }
 
 /// Checks the drawn outline of `contours` against `bitmap` (see the module docs).
-pub(crate) fn check(bitmap: &Bitmap, contours: &[FittedContour], limits: Limits) -> Findings {
+/// Pixels in `excused` (specks dropped on purpose) never count as far.
+pub(crate) fn check(
+    bitmap: &Bitmap,
+    contours: &[FittedContour],
+    limits: Limits,
+    excused: &HashSet<u32>,
+) -> Findings {
     let polylines = flatten(contours, limits.bound);
     let grid = EdgeGrid::new(&polylines, bitmap.width, bitmap.height);
 
@@ -325,7 +331,7 @@ pub(crate) fn check(bitmap: &Bitmap, contours: &[FittedContour], limits: Limits)
                 next += 1;
             }
             let fg = f64::from(coverage[row * w + col]) >= threshold;
-            if fg != inside {
+            if fg != inside && !excused.contains(&((row * w + col) as u32)) {
                 let centre = Point::new(x, row as f64 + 0.5);
                 if grid.nearest(centre, SHAPE_LIMIT, None).is_none() {
                     far.insert((row * w + col) as u32);
@@ -414,10 +420,9 @@ pub(crate) enum Repair {
 }
 
 impl Repair {
-    /// The next step after this one, `None` past the last.
-    pub(crate) fn next(self, has_bad_points: bool) -> Option<Repair> {
+    /// The next trace after this one, `None` past the last.
+    pub(crate) fn next(self) -> Option<Repair> {
         match self {
-            Repair::None if has_bad_points => Some(Repair::Corners),
             Repair::None | Repair::Corners => Some(Repair::PixelSmoothed),
             Repair::PixelSmoothed => Some(Repair::PixelRaw),
             Repair::PixelRaw => None,

@@ -56,9 +56,12 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Every parameter of a trace. `Config::default()` gives the documented defaults.
 #[derive(Clone, Debug, Serialize)]
 pub struct Config {
-    /// Coverage threshold on the 0–255 scale (foreground when coverage ≥ threshold).
-    /// Default: `None`, Otsu's threshold of the image.
+    /// Threshold on the 0–255 scale of what is traced: pixels darker than it are the
+    /// shape (lighter with `invert`; more opaque when tracing alpha). Default: `None`,
+    /// Otsu's threshold of the image.
     pub threshold: Option<u8>,
+    /// Trace the luminance even when the image has transparency. Default: false.
+    pub luminance: bool,
     /// Treat light shapes on a dark background as the foreground. Default: false.
     pub invert: bool,
     /// Largest image accepted, in pixels (width × height). Default: 50 000 000, about
@@ -115,6 +118,7 @@ impl Default for Config {
     fn default() -> Self {
         Config {
             threshold: None,
+            luminance: false,
             invert: false,
             max_pixels: 50_000_000,
             min_area: 2.0,
@@ -190,6 +194,7 @@ impl Config {
     pub fn raster_options(&self) -> RasterOptions {
         RasterOptions {
             threshold: self.threshold,
+            luminance: self.luminance,
             invert: self.invert,
             max_pixels: self.max_pixels,
         }
@@ -203,8 +208,13 @@ pub struct ImageInfo {
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    /// The coverage threshold used, in [0, 1].
+    /// The threshold used, on the 0–255 scale of `threshold_scale` (what `--threshold`
+    /// takes).
     pub threshold: f64,
+    /// What the threshold was compared with: `luminance` (darker is the shape),
+    /// `inverted_luminance`, `alpha` (more opaque is the shape), `inverted_alpha`, or
+    /// `coverage` for a bitmap built from coverage values.
+    pub threshold_scale: raster::ThresholdScale,
     /// True when the image has (almost) no grey levels at its edges, so the outline was
     /// smoothed instead of refined to sub-pixel positions.
     pub bilevel: bool,
@@ -277,7 +287,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     )?;
     if extraction.contours.is_empty() {
         return Err(Error::NoForeground {
-            threshold: bitmap.threshold(),
+            threshold: bitmap.threshold_scale().describe(bitmap.threshold_value()),
         });
     }
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
@@ -332,6 +342,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             &extraction,
             &mut fitted,
             limits,
+            config.min_area,
             &break_options,
             &fit_one,
         )?
@@ -347,7 +358,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         image: ImageInfo {
             width: bitmap.width,
             height: bitmap.height,
-            threshold: bitmap.threshold(),
+            threshold: bitmap.threshold_value(),
+            threshold_scale: bitmap.threshold_scale(),
             bilevel: bitmap.is_bilevel(),
             from_alpha: bitmap.from_alpha(),
             dark_border: bitmap.dark_border(),

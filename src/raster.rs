@@ -54,15 +54,81 @@ const DECODE_SLACK_BYTES: u64 = 64 << 20;
 /// Options for turning an image into foreground coverage.
 #[derive(Clone, Debug)]
 pub struct RasterOptions {
-    /// Fixed threshold on the 0–255 coverage scale: a pixel is foreground when its coverage
-    /// is at least `threshold / 255`. Default: `None`, Otsu's level clamped to [0.2, 0.8].
+    /// Fixed threshold on the 0–255 scale of what is traced ([`ThresholdScale`]): with
+    /// luminance, pixels darker than it are the shape; with `invert`, lighter ones; with
+    /// alpha, more opaque ones. Default: `None`, Otsu's level (clamped to [0.2, 0.8] of
+    /// the coverage).
     pub threshold: Option<u8>,
+    /// Trace the luminance (composited over white) even when the image has transparency.
+    /// Default: false (a transparent image traces its alpha).
+    pub luminance: bool,
     /// Trace light shapes on a dark background (or, with alpha, the transparent part).
     /// Default: false.
     pub invert: bool,
     /// Largest accepted width × height, checked from the file header before any pixel is
     /// decoded. Default (in [`crate::Config`]): 50 000 000.
     pub max_pixels: u64,
+}
+
+/// What the threshold is compared with, as a user sees the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ThresholdScale {
+    /// Luminance 0–255 (Rec. 601): pixels darker than the threshold are the shape.
+    Luminance,
+    /// Luminance with `invert`: pixels lighter than the threshold are the shape.
+    InvertedLuminance,
+    /// Alpha 0–255: pixels more opaque than the threshold are the shape.
+    Alpha,
+    /// Alpha with `invert`: pixels more transparent than the threshold are the shape.
+    InvertedAlpha,
+    /// The coverage itself, scaled to 0–255 ([`Bitmap::from_coverage`]): coverage at or
+    /// above the threshold is the shape.
+    Coverage,
+}
+
+impl ThresholdScale {
+    /// True when values below the threshold are the shape.
+    fn below_is_shape(self) -> bool {
+        matches!(
+            self,
+            ThresholdScale::Luminance | ThresholdScale::InvertedAlpha
+        )
+    }
+
+    /// The coverage threshold (foreground ⇔ coverage ≥ it) of a threshold `t` on this
+    /// scale. Half a level separates the two sides, so that on 8-bit values "darker than
+    /// t" is exact.
+    pub fn coverage_threshold(self, t: f64) -> f64 {
+        let c = match self {
+            ThresholdScale::Coverage => t / 255.0,
+            _ if self.below_is_shape() => 1.0 - (t - 0.5) / 255.0,
+            _ => (t + 0.5) / 255.0,
+        };
+        c.clamp(0.0, 1.0)
+    }
+
+    /// The threshold on this scale of a coverage threshold `c`: the exact boundary, so
+    /// that the shape is what lies beyond it (`--threshold 100` on luminance gives 99.5:
+    /// luminance 99 and darker is the shape, 100 is not).
+    pub fn value_of(self, c: f64) -> f64 {
+        match self {
+            ThresholdScale::Coverage => 255.0 * c,
+            _ if self.below_is_shape() => 255.0 * (1.0 - c),
+            _ => 255.0 * c,
+        }
+    }
+
+    /// A short description for messages, e.g. "luminance below 136.0".
+    pub fn describe(self, value: f64) -> String {
+        match self {
+            ThresholdScale::Luminance => format!("luminance below {value:.1}"),
+            ThresholdScale::InvertedLuminance => format!("luminance above {value:.1}"),
+            ThresholdScale::Alpha => format!("alpha above {value:.1}"),
+            ThresholdScale::InvertedAlpha => format!("alpha below {value:.1}"),
+            ThresholdScale::Coverage => format!("coverage at least {value:.1}/255"),
+        }
+    }
 }
 
 /// Foreground coverage of an image, with the threshold and the facts detected about it.
@@ -82,6 +148,8 @@ pub struct Bitmap {
     bilevel: bool,
     /// True when the coverage is the alpha channel.
     from_alpha: bool,
+    /// What the threshold is compared with, as the user sees the image.
+    scale: ThresholdScale,
     /// True when most of the outermost ring of pixels is foreground.
     dark_border: bool,
 }
@@ -144,6 +212,7 @@ impl Bitmap {
             threshold,
             bilevel: false,
             from_alpha,
+            scale: ThresholdScale::Coverage,
             dark_border: false,
         };
         bitmap.bilevel = bitmap.detect_bilevel();
@@ -227,6 +296,16 @@ impl Bitmap {
     /// True when the coverage came from the alpha channel.
     pub fn from_alpha(&self) -> bool {
         self.from_alpha
+    }
+
+    /// What the threshold is compared with, as the user sees the image.
+    pub fn threshold_scale(&self) -> ThresholdScale {
+        self.scale
+    }
+
+    /// The threshold on [`Bitmap::threshold_scale`] (0–255), as `--threshold` takes it.
+    pub fn threshold_value(&self) -> f64 {
+        self.scale.value_of(self.threshold)
     }
 
     /// True when more than half of the outermost ring of pixels is foreground: the polarity
@@ -436,18 +515,37 @@ pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
     } else {
         img.to_luma_alpha32f().into_raw()
     };
-    let from_alpha = img.color().has_alpha() && luma_alpha.chunks_exact(2).any(|p| p[1] < 1.0);
+    let from_alpha = !opts.luminance
+        && img.color().has_alpha()
+        && luma_alpha.chunks_exact(2).any(|p| p[1] < 1.0);
+    // With `luminance`, transparent pixels show the white paper under them.
     let mut coverage: Vec<f32> = luma_alpha
         .chunks_exact(2)
-        .map(|p| if from_alpha { p[1] } else { 1.0 - p[0] })
+        .map(|p| {
+            if from_alpha {
+                p[1]
+            } else {
+                1.0 - (p[0] * p[1] + (1.0 - p[1]))
+            }
+        })
         .collect();
     if opts.invert {
         for v in &mut coverage {
             *v = 1.0 - *v;
         }
     }
-    let threshold = opts.threshold.map(|t| f64::from(t) / 255.0);
-    Bitmap::build(width, height, coverage, threshold, from_alpha)
+    let scale = match (from_alpha, opts.invert) {
+        (false, false) => ThresholdScale::Luminance,
+        (false, true) => ThresholdScale::InvertedLuminance,
+        (true, false) => ThresholdScale::Alpha,
+        (true, true) => ThresholdScale::InvertedAlpha,
+    };
+    let threshold = opts
+        .threshold
+        .map(|t| scale.coverage_threshold(f64::from(t)));
+    let mut bitmap = Bitmap::build(width, height, coverage, threshold, from_alpha)?;
+    bitmap.scale = scale;
+    Ok(bitmap)
 }
 
 /// Loads an image file into a [`Bitmap`].
@@ -496,6 +594,7 @@ mod tests {
     fn opts() -> RasterOptions {
         RasterOptions {
             threshold: None,
+            luminance: false,
             invert: false,
             max_pixels: 1 << 30,
         }
@@ -579,13 +678,15 @@ mod tests {
         let fixed = from_image(
             &img,
             &RasterOptions {
-                threshold: Some(200),
+                threshold: Some(100),
                 ..opts()
             },
         )
         .unwrap();
-        assert!((fixed.threshold() - 200.0 / 255.0).abs() < 1e-12);
-        // The grey pixel (coverage 0.498) is foreground at Otsu's level, not at 200/255.
+        // Darker than 100 is the shape: coverage above 1 − 99.5/255.
+        assert!((fixed.threshold() - (1.0 - 99.5 / 255.0)).abs() < 1e-12);
+        assert!((fixed.threshold_value() - 99.5).abs() < 1e-9);
+        // The grey pixel (luminance 128) is foreground at Otsu's level, not darker than 100.
         let otsu_mask = from_image(&img, &opts()).unwrap().mask();
         assert_eq!(otsu_mask.get_pixel(4, 1).0[0], 255);
         assert_eq!(fixed.mask().get_pixel(4, 1).0[0], 0);

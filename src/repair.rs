@@ -21,7 +21,7 @@ use crate::raster::Bitmap;
 use std::collections::{BTreeSet, HashSet};
 
 /// Rounds of check and repair before giving up.
-const MAX_ROUNDS: usize = 4;
+const MAX_ROUNDS: usize = 6;
 
 /// Tolerance (px) of the pixel polygon's corners: the midpoints of a digital straight line
 /// lie within half a pixel of it.
@@ -35,14 +35,17 @@ pub(crate) fn check_and_repair(
     extraction: &Extraction,
     contours: &mut Vec<FittedContour>,
     limits: Limits,
+    min_area: f64,
     break_options: &BreakOptions,
     fit: &dyn Fn(SegmentedContour, usize, bool) -> Result<FittedContour>,
 ) -> Result<Fidelity> {
     let mut level = vec![Repair::None; contours.len()];
+    let mut corners_tried = vec![false; contours.len()];
     let mut border_of = extraction.border_of.clone();
     let mut repaired: HashSet<usize> = HashSet::new();
     let mut restored = 0usize;
-    let mut findings = check(bitmap, contours, limits);
+    let excused = extraction.dropped_pixels(min_area, bitmap.width);
+    let mut findings = check(bitmap, contours, limits, &excused);
     for _ in 0..MAX_ROUNDS {
         if findings.held() {
             break;
@@ -59,14 +62,21 @@ pub(crate) fn check_and_repair(
         let mut progressed = false;
         for i in targets {
             let bad = &findings.bad_points[i];
-            let Some(next) = level[i].next(!bad.is_empty()) else {
-                continue;
+            // Where the path left its data, first add corners there (repeatable on the
+            // last step); otherwise trace the contour again, closer to the pixels.
+            let step = if !bad.is_empty() && (!corners_tried[i] || level[i] == Repair::PixelRaw) {
+                Repair::Corners
+            } else {
+                match level[i].next() {
+                    Some(next) => next,
+                    None => continue,
+                }
             };
-            let seg = match next {
+            let seg = match step {
                 Repair::None => continue,
                 Repair::Corners => with_corners(&contours[i], bad),
                 Repair::PixelSmoothed | Repair::PixelRaw => {
-                    let how = if next == Repair::PixelRaw {
+                    let how = if step == Repair::PixelRaw {
                         PixelTrace::Raw
                     } else {
                         PixelTrace::Smoothed
@@ -75,15 +85,20 @@ pub(crate) fn check_and_repair(
                     else {
                         continue;
                     };
-                    if next == Repair::PixelRaw {
+                    if step == Repair::PixelRaw {
                         polygon_segmented(c.points, c.is_hole, c.parent)
                     } else {
                         find_breaks(&c, break_options)
                     }
                 }
             };
+            if step == Repair::Corners {
+                corners_tried[i] = true;
+            } else {
+                level[i] = step;
+                corners_tried[i] = false;
+            }
             contours[i] = fit(seg, i, true)?;
-            level[i] = next;
             repaired.insert(i);
             progressed = true;
         }
@@ -95,7 +110,7 @@ pub(crate) fn check_and_repair(
             let pixels: HashSet<u32> = region.pixels.iter().copied().collect();
             for (b, border) in extraction.borders.iter().enumerate() {
                 if !kept.contains(&b)
-                    && border.pixel_area() >= limits.region
+                    && border.pixel_area() >= min_area
                     && border.touches(&pixels, bitmap.width)
                 {
                     lost.insert(b);
@@ -125,6 +140,7 @@ pub(crate) fn check_and_repair(
                 contours.push(fit(find_breaks(&c, break_options), index, true)?);
                 border_of.push(b);
                 level.push(Repair::PixelSmoothed);
+                corners_tried.push(false);
                 restored += 1;
                 progressed = true;
             }
@@ -132,7 +148,7 @@ pub(crate) fn check_and_repair(
         if !progressed {
             break;
         }
-        findings = check(bitmap, contours, limits);
+        findings = check(bitmap, contours, limits, &excused);
     }
     Ok(Fidelity {
         held: findings.held(),

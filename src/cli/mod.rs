@@ -86,9 +86,15 @@ struct ShapeArgs {
     /// Drop shapes and holes smaller than this area (px²), like potrace's turdsize.
     #[arg(long, default_value_t = 2.0, value_name = "PX2")]
     min_area: f64,
-    /// Foreground threshold on the 0–255 coverage scale (default: Otsu's level).
+    /// Foreground threshold, 0–255: pixels darker than this are the shape (lighter with
+    /// --invert; more opaque when an image with transparency traces its alpha). Default:
+    /// Otsu's level; the report's "threshold" gives the one used, on the same scale.
     #[arg(long, value_name = "0-255")]
     threshold: Option<u8>,
+    /// Trace the luminance (transparent pixels count as white paper) even when the image
+    /// has transparency, which otherwise traces its alpha channel.
+    #[arg(long)]
+    luminance: bool,
     /// Light shapes on a dark background (or inverted alpha) are the foreground.
     #[arg(long)]
     invert: bool,
@@ -102,6 +108,7 @@ impl ShapeArgs {
     fn config(&self) -> Config {
         Config {
             threshold: self.threshold,
+            luminance: self.luminance,
             invert: self.invert,
             max_pixels: self.max_pixels,
             min_area: self.min_area,

@@ -389,7 +389,8 @@ pub(crate) mod tests {
             image: ImageInfo {
                 width,
                 height,
-                threshold: 0.5,
+                threshold: 127.5,
+                threshold_scale: crate::raster::ThresholdScale::Coverage,
                 bilevel: true,
                 from_alpha: false,
                 dark_border: false,
