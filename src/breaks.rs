@@ -249,11 +249,33 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
         let mut out_corners = Vec::new();
         let mut skip = vec![false; n0];
         let mut replace: Vec<Option<Point>> = vec![None; n0];
+        // Square ends: a U-turn whose core is a short straight end between two corners.
+        let mut replace_end: Vec<Option<(Point, Point)>> = vec![None; n0];
         for &i in &corners {
             let at = |d: f64| point_at(src, &s, total, i, s[i] + d);
             let (a0, a1, b0, b1) = (at(-2.0 * h), at(-0.5 * h), at(0.5 * h), at(2.0 * h));
             let straight = max_off_line(src, &s, total, i, -2.0 * h, -0.5 * h, a0, a1) < 0.2
                 && max_off_line(src, &s, total, i, 0.5 * h, 2.0 * h, b0, b1) < 0.2;
+            let square_end = (straight && ca[i] > SQUARE_END_TURN.to_radians())
+                .then(|| square_end_corners(src, &s, total, i, h, (a0, a1), (b0, b1)))
+                .flatten();
+            if let Some(ends) = square_end {
+                for k in 1..n0 {
+                    let mut any = false;
+                    for j in [(i + k) % n0, (i + n0 - k) % n0] {
+                        let d = (s[j] - s[i]).abs();
+                        if d.min(total - d) < 0.5 * h {
+                            skip[j] = true;
+                            any = true;
+                        }
+                    }
+                    if !any {
+                        break;
+                    }
+                }
+                replace_end[i] = Some(ends);
+                continue;
+            }
             if let (true, Some(x)) = (straight, line_intersection(a0, a1, b0, b1)) {
                 if x.distance(src[i]) < h {
                     for k in 1..n0 {
@@ -274,7 +296,12 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
             }
         }
         for i in 0..n0 {
-            if let Some(x) = replace[i] {
+            if let Some((x, y)) = replace_end[i] {
+                out.push(x);
+                out_corners.push(out.len() - 1);
+                out.push(y);
+                out_corners.push(out.len() - 1);
+            } else if let Some(x) = replace[i] {
                 out.push(x);
                 out_corners.push(out.len() - 1);
             } else if !skip[i] {
@@ -380,6 +407,60 @@ fn line_intersection(a0: Point, a1: Point, b0: Point, b1: Point) -> Option<Point
     let t = (b0 - a0).cross(db) / den;
     Some(a0 + da * t)
 }
+
+/// A corner turning by more than this (degrees) may be a square end: two corners closer
+/// together than the corner window.
+const SQUARE_END_TURN: f64 = 140.0;
+
+/// The two corners of a square end at corner `i`, whose straight sides run along
+/// `side_a` (arriving) and `side_b` (leaving): the end is the line through the tip along
+/// the chord across it, and each corner is where a side meets it. `None` unless both
+/// corners lie within `h` of the tip, at least 0.8 px apart, and the outline between them
+/// stays within 0.3 px of the end.
+fn square_end_corners(
+    src: &[Point],
+    s: &[f64],
+    total: f64,
+    i: usize,
+    h: f64,
+    side_a: (Point, Point),
+    side_b: (Point, Point),
+) -> Option<(Point, Point)> {
+    let at = |d: f64| point_at(src, s, total, i, s[i] + d);
+    // The sides of a square end run (nearly) parallel, one there and one back.
+    let (da, db) = (
+        (side_a.1 - side_a.0).normalized()?,
+        (side_b.1 - side_b.0).normalized()?,
+    );
+    if da.dot(db) > -SQUARE_END_PARALLEL.to_radians().cos() {
+        return None;
+    }
+    let across = at(0.5 * h) - at(-0.5 * h);
+    let dir = across.normalized()?;
+    let (e0, e1) = (src[i] - dir, src[i] + dir);
+    let x = line_intersection(side_a.0, side_a.1, e0, e1)?;
+    let y = line_intersection(e0, e1, side_b.0, side_b.1)?;
+    let close = |p: Point| p.distance(src[i]) < h;
+    if !(close(x) && close(y)) || x.distance(y) < 0.8 {
+        return None;
+    }
+    // The end itself: the points near the tip lie on the end line, and the outline
+    // passes close to both corners (a round end misses them by 0.41 of its radius).
+    let end_fit = max_off_line(src, s, total, i, -0.25 * h, 0.25 * h, x, y);
+    let reach = |p: Point| {
+        (0..=16)
+            .map(|k| at(-h + k as f64 * h / 8.0).distance(p))
+            .fold(f64::INFINITY, f64::min)
+    };
+    (end_fit < 0.3 && reach(x) < SQUARE_END_CORNER_GAP && reach(y) < SQUARE_END_CORNER_GAP)
+        .then_some((x, y))
+}
+
+/// Largest angle (degrees) between the two sides of a square end, one reversed.
+const SQUARE_END_PARALLEL: f64 = 20.0;
+
+/// Largest distance (px) between a square end's corner and its outline.
+const SQUARE_END_CORNER_GAP: f64 = 0.5;
 
 /// Inserts sub-sample breaks as points, merges breaks that land within 0.5 px of each
 /// other (corners win), and guarantees at least two breaks.

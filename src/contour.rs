@@ -583,7 +583,20 @@ fn extract_with(
                     smoothed_cracks(&cracks)
                 }
             } else {
-                work.refined_outline(bitmap, &cracks, estimator)
+                let refined = work.refined_outline(bitmap, &cracks, estimator);
+                if outline_noise(&refined) > NOISE_LIMIT {
+                    // The grey levels are noise (JPEG ringing, scanner grain), not
+                    // anti-aliasing: refining to them would fit the noise. Trace the
+                    // thresholded pixels as a bilevel image is traced.
+                    let fitted = work.bilevel_outline(&cracks, &mask);
+                    if follows_cracks(&fitted, &cracks) {
+                        fitted
+                    } else {
+                        smoothed_cracks(&cracks)
+                    }
+                } else {
+                    refined
+                }
             };
             let mut points = points;
             extend_spikes(&mut points, bitmap);
@@ -663,6 +676,37 @@ fn smoothed_cracks(cracks: &[Crack]) -> Vec<Point> {
         std::mem::swap(&mut pts, &mut next);
     }
     pts
+}
+
+/// Noise level (px, [`outline_noise`]) above which a grey-level outline is traced from its
+/// thresholded pixels instead: clean anti-aliased edges measure 0.005–0.02 px (glyphs at
+/// 64 and 256 px, icons, stress shapes), a bilevel horse saved as a JPEG at quality 30
+/// 0.04 px, photos and scans 0.08–0.15 px.
+const NOISE_LIMIT: f64 = 0.03;
+
+/// Robust noise level (px) of an outline: the median of the fourth difference of the
+/// points across the outline (which cancels curves up to cubics), scaled to a standard
+/// deviation (for independent noise σ the fourth difference has deviation σ·√70).
+fn outline_noise(points: &[Point]) -> f64 {
+    let n = points.len();
+    if n < 8 {
+        return 0.0;
+    }
+    let at = |k: usize| points[k % n];
+    let mut r: Vec<f64> = (0..n)
+        .filter_map(|i| {
+            let (a, b, c, d, e) = (at(i + n - 2), at(i + n - 1), at(i), at(i + 1), at(i + 2));
+            let normal = unit(d - b)?.perp();
+            let fourth = (a + e) - (b + d) * 4.0 + c * 6.0;
+            Some(fourth.dot(normal).abs())
+        })
+        .collect();
+    if r.is_empty() {
+        return 0.0;
+    }
+    let mid = r.len() / 2;
+    let (_, median, _) = r.select_nth_unstable_by(mid, f64::total_cmp);
+    *median / 0.6745 / 70f64.sqrt()
 }
 
 /// Sharpest turn (degrees, over chords of `SPIKE_REACH` px) that counts as a spike tip.
@@ -2238,6 +2282,11 @@ fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point) -> f64 {
         }
         let f = bitmap.sample(m - n * (j as f64 * ds));
         if f < highest - MONOTONE_SLACK {
+            // Past the ridge of a stroke thinner than the window: its coverage never
+            // reaches 1, and "1 past the maximum" would put the edge too far out.
+            if let Some(s) = thin_stroke_edge(bitmap, m, n, highest) {
+                return s;
+            }
             break;
         }
         inward += 0.5 * (prev + f) * ds;
@@ -2247,6 +2296,59 @@ fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point) -> f64 {
     }
     inward += HALF_WINDOW - reached;
     inward + outward - HALF_WINDOW
+}
+
+/// Coverage below which the far side of a thin stroke counts as reached.
+const THIN_STROKE_FLOOR: f64 = 0.04;
+/// Farthest (px) the far side of a thin stroke is looked for, inwards from the crack.
+const THIN_STROKE_REACH: f64 = 3.0;
+
+/// The edge of a stroke too thin for its coverage to reach 1, from its whole profile
+/// along `n`: a box-filtered stroke of width w has ∫ f ds = w whatever the blur, and its
+/// centre at the centroid c of f, so the edge on the `+n` side is at c + w/2. `None` when
+/// the profile does not fall back to paper within `THIN_STROKE_REACH` (a stroke that
+/// widens into a shape) or when the stroke is not faint (peak `highest` near 1).
+fn thin_stroke_edge(bitmap: &Bitmap, m: Point, n: Point, highest: f64) -> Option<f64> {
+    if highest > 0.95 {
+        return None;
+    }
+    let ds = HALF_WINDOW / WINDOW_STEPS as f64;
+    let (mut mass, mut moment) = (0.0, 0.0);
+    // Outwards to paper.
+    let mut s = 0.0;
+    let mut f = bitmap.sample(m);
+    let mut closed_out = false;
+    while s < HALF_WINDOW {
+        let g = bitmap.sample(m + n * (s + ds));
+        mass += 0.5 * (f + g) * ds;
+        moment += 0.5 * (f * s + g * (s + ds)) * ds;
+        s += ds;
+        f = g;
+        if f <= THIN_STROKE_FLOOR {
+            closed_out = true;
+            break;
+        }
+    }
+    // Inwards across the ridge to paper on the far side.
+    let mut s = 0.0;
+    let mut f = bitmap.sample(m);
+    let mut closed_in = false;
+    while s < THIN_STROKE_REACH {
+        let g = bitmap.sample(m - n * (s + ds));
+        mass += 0.5 * (f + g) * ds;
+        moment -= 0.5 * (f * s + g * (s + ds)) * ds;
+        s += ds;
+        f = g;
+        if f <= THIN_STROKE_FLOOR {
+            closed_in = true;
+            break;
+        }
+    }
+    if !(closed_out && closed_in) || mass <= 0.0 {
+        return None;
+    }
+    let centre = moment / mass;
+    Some(centre + 0.5 * mass)
 }
 
 /// Signed distance from `m` along `n` to where the bilinear coverage crosses the threshold,
