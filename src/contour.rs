@@ -255,6 +255,67 @@ fn side_pixels(x: i64, y: i64, d: usize) -> ((i64, i64), (i64, i64)) {
     }
 }
 
+/// Half-width (pixels) of the window in which [`resolve_diagonals`] counts the majority.
+const DIAGONAL_WINDOW: usize = 2;
+
+/// Ambiguous diagonals, decided like potrace's "minority" turn policy. Where two
+/// background pixels touch only at a corner between two foreground pixels, the border
+/// follower (8-connected foreground, 4-connected background) always joins the foreground
+/// and cuts the background apart, so a thin light line across a dark shape (a diagonal
+/// cut, a gap thinner than a pixel) falls apart into one-pixel holes that `min_area`
+/// drops. Here the colour in the minority around the pair wins: where the background is
+/// the minority, the fainter of the two foreground pixels becomes background and the
+/// light line stays connected. Dark lines on light (the foreground in the minority) keep
+/// the border follower's choice.
+fn resolve_diagonals(data: &mut [u8], width: usize, height: usize, bitmap: &Bitmap) {
+    if width < 2 * DIAGONAL_WINDOW + 2 || height < 2 * DIAGONAL_WINDOW + 2 {
+        return;
+    }
+    let fg = |data: &[u8], c: usize, r: usize| data[r * width + c] != 0;
+    let mut flips = Vec::new();
+    for r in 1..height - 2 {
+        for c in 1..width - 2 {
+            let (a, b) = (fg(data, c, r), fg(data, c + 1, r));
+            let (d, e) = (fg(data, c, r + 1), fg(data, c + 1, r + 1));
+            // Background on one diagonal, foreground on the other.
+            let pair = match (a, b, d, e) {
+                (false, true, true, false) => [(c + 1, r), (c, r + 1)],
+                (true, false, false, true) => [(c, r), (c + 1, r + 1)],
+                _ => continue,
+            };
+            let (r0, r1) = (
+                r.saturating_sub(DIAGONAL_WINDOW - 1),
+                (r + 1 + DIAGONAL_WINDOW).min(height - 1),
+            );
+            let (c0, c1) = (
+                c.saturating_sub(DIAGONAL_WINDOW - 1),
+                (c + 1 + DIAGONAL_WINDOW).min(width - 1),
+            );
+            let (mut ink, mut all) = (0, 0);
+            for rr in r0..=r1 {
+                for cc in c0..=c1 {
+                    ink += usize::from(fg(data, cc, rr));
+                    all += 1;
+                }
+            }
+            if 2 * ink <= all {
+                continue;
+            }
+            // Padded coordinates → image pixels.
+            let cov = |(cc, rr): (usize, usize)| bitmap.coverage_at(cc as i64 - 1, rr as i64 - 1);
+            let faint = if cov(pair[0]) <= cov(pair[1]) {
+                pair[0]
+            } else {
+                pair[1]
+            };
+            flips.push(faint);
+        }
+    }
+    for (c, r) in flips {
+        data[r * width + c] = 0;
+    }
+}
+
 /// The padded binary mask: 1 pixel of background around the image.
 struct PaddedMask {
     width: i64,
@@ -276,6 +337,7 @@ impl PaddedMask {
                 *d = if f64::from(v) >= t { 255 } else { 0 };
             }
         }
+        resolve_diagonals(&mut data, pw, h + 2, bitmap);
         let image =
             GrayImage::from_raw(u32::try_from(pw).ok()?, bitmap.height.checked_add(2)?, data)?;
         Some(PaddedMask {

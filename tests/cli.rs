@@ -235,6 +235,12 @@ fn batch_reports_failures_and_converts_the_rest() {
     assert!(!out.join("broken.svg").exists());
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     assert_eq!(summary.lines().count(), 4, "{summary}");
+    // The fidelity check's verdict is in the summary: held on both samples.
+    let header: Vec<&str> = summary.lines().next().unwrap().split(',').collect();
+    let held = header.iter().position(|&h| h == "fidelity_held").unwrap();
+    for line in summary.lines().skip(1).filter(|l| l.contains(",ok,")) {
+        assert_eq!(line.split(',').nth(held), Some("yes"), "{summary}");
+    }
     assert!(
         summary
             .lines()
@@ -383,4 +389,87 @@ fn optimised_breaks_are_deterministic_on_one_and_two_threads_and_refuse_bad_opti
         "--break-optimizer",
     );
     assert_clean_failure(&input, &["--break-budget", "0"], "--break-budget");
+}
+
+#[test]
+fn threshold_is_on_the_luminance_scale_and_reported_on_it() {
+    // A grey ramp: luminance = column. `--threshold 64` makes columns 0..=63 the shape.
+    let dir = scratch("ramp");
+    let ramp = image::GrayImage::from_fn(256, 24, |x, _| image::Luma([x as u8]));
+    let input = dir.join("ramp.png");
+    ramp.save(&input).unwrap();
+    let out = bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.join("ramp.svg"))
+        .arg("--report")
+        .arg(dir.join("ramp.json"))
+        .args(["--threshold", "64"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("ramp.json")).unwrap()).unwrap();
+    let image = &report["images"][0]["image"];
+    assert_eq!(image["threshold_scale"], "luminance");
+    assert!(
+        (image["threshold"].as_f64().unwrap() - 63.5).abs() < 1e-9,
+        "{image}"
+    );
+    assert_eq!(report["images"][0]["fidelity"]["held"], true);
+    let svg = std::fs::read_to_string(dir.join("ramp.svg")).unwrap();
+    let cov = common::render_svg_coverage(&svg, 256, 24);
+    let row = &cov[12 * 256..13 * 256];
+    let filled = row.iter().filter(|&&c| c >= 0.5).count();
+    assert_eq!(filled, 64, "columns drawn: {filled}");
+}
+
+#[test]
+fn strict_and_no_check_are_exclusive_and_no_check_reports_nothing_held() {
+    let dir = scratch("strict");
+    let input = common::samples_dir().join("pear.png");
+    let out = bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.join("p.svg"))
+        .args(["--strict", "--no-check"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(!dir.join("p.svg").exists());
+    let out = bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.join("p.svg"))
+        .arg("--report")
+        .arg(dir.join("p.json"))
+        .arg("--no-check")
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("p.json")).unwrap()).unwrap();
+    assert_eq!(report["images"][0]["fidelity"]["held"], false);
+    // With the check (the default) and --strict, a clean sample passes.
+    let out = bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.join("q.svg"))
+        .arg("--strict")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("q.svg").exists());
 }
