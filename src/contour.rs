@@ -1,13 +1,17 @@
 //! Boundary extraction: from a coverage field ([`Bitmap`]) to closed sub-pixel outlines
 //! ([`Contour`]), with their nesting (outer borders, holes, islands in holes).
 //!
-//! The method, in four steps:
+//! The method, in four steps (the full outline of every border is also kept, so that
+//! [`crate::fidelity`]'s repairs can trace a border again from its pixels alone):
 //!
 //! 1. **Topology.** The thresholded mask, padded by one pixel of background on every side
 //!    so that shapes touching the image edge get closed borders, goes through
 //!    `imageproc::contours::find_contours` (Suzuki and Abe's border following:
 //!    8-connected foreground, 4-connected background). It gives every border's kind (outer
-//!    or hole), its parent and its first pixel.
+//!    or hole), its parent and its first pixel. Before that, ambiguous diagonal pixel
+//!    pairs are decided by the colour in the minority around them
+//!    (`resolve_diagonals`, potrace's "minority" turn policy), so that a light line
+//!    thinner than a pixel is not cut into one-pixel holes.
 //! 2. **Crack loops.** From that first pixel each border is re-traced along the pixel edges
 //!    ("cracks") that separate its foreground component from the adjacent background
 //!    component, keeping the foreground on the right. On screen (y down) outer loops then run
@@ -66,8 +70,16 @@
 //!        corner's wedge, background centres outside. A digitised curve taken for a
 //!        corner fails this and is smoothed instead. The points next to a kept corner are
 //!        regressed again with the corner in their windows.
-//! 4. **Clean-up.** Points closer than 0.3 px to their predecessor and points that step
-//!    backwards (at concave corners) are removed, then each closed polyline is resampled
+//!    * *Noisy grey levels*: a grey-level outline whose refined points are noisy
+//!      (`outline_noise` above `NOISE_LIMIT`: JPEG ringing, scanner grain) is replaced
+//!      by the bilevel outline of its pixels, so the fit does not follow the noise.
+//!    * *Spikes*: tips that the threshold cut short are extended to the intersection of
+//!      their straight sides where the coverage supports it (`extend_spikes`).
+//! 4. **Clean-up.** Points closer than 0.3 px to their predecessor are removed, and so
+//!    are points that step backwards (at concave corners) by less than 1 px, at most
+//!    three in a row, and small self-crossing folds are cut at the crossing (an unbounded
+//!    backstep rule once let one bad tangent discard the rest of a contour). Each closed
+//!    polyline is then resampled
 //!    to about 0.8 px spacing (a little more than one point per pixel of boundary), keeping
 //!    corners and sharp turns as exact samples so that they are not cut off. Contours with
 //!    fewer than 3 points or an enclosed area below `min_area` are dropped with all the
@@ -784,6 +796,16 @@ const SPIKE_SIDE: f64 = 5.0;
 const SPIKE_RESIDUAL: f64 = 0.2;
 /// Longest extension (px) of a tip along its sides, with grey-level evidence.
 const SPIKE_MAX_EXTENSION: f64 = 4.0;
+/// Rise of coverage (above its lowest so far) that ends a needle's ridge: another shape.
+/// Along a line thinner than a pixel the coverage wavers with the pixel grid by ~0.2.
+const SPIKE_RIDGE_RISE: f64 = 0.3;
+/// Shortest trail (px) of faint ink ahead of a tip that counts as the rest of a needle.
+const SPIKE_RIDGE_MIN: f64 = 2.0;
+/// Longest extension (px) of a needle tip along its ridge of faint ink.
+const SPIKE_RIDGE_REACH: f64 = 24.0;
+/// Coverage (or paper, for a slit) below which the ridge of a needle has ended: a
+/// box-filtered needle thinner than a pixel has about its width as coverage.
+const SPIKE_RIDGE_FLOOR: f64 = 0.06;
 /// Longest extension (px) of a tip of a bilevel image, which shows no evidence beyond
 /// the last pixel (side lines that meet up to three times farther are followed this far).
 const SPIKE_MAX_EXTENSION_BILEVEL: f64 = 2.0;
@@ -875,10 +897,10 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         let x = la.origin + la.direction * ((lb.origin - la.origin).cross(lb.direction) / cross);
         let tip = at(i);
         let reach = x.distance(tip);
-        if !x.is_finite() || reach > 3.0 * max_move || reach < 0.25 {
+        if !x.is_finite() || reach < 0.25 {
             continue;
         }
-        if reach > max_move && !bitmap.is_bilevel() {
+        if reach > 3.0 * max_move && (bitmap.is_bilevel() || reach > SPIKE_RIDGE_REACH) {
             continue;
         }
         // The new tip must lie ahead of the old one, away from both sides.
@@ -887,6 +909,43 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         };
         let mid_sides = (at(inner_back) + at(inner_ahead)) * 0.5;
         if (tip - mid_sides).dot(u) <= 0.0 {
+            continue;
+        }
+        if reach > max_move && !bitmap.is_bilevel() {
+            // A needle whose sides meet far ahead: its thinnest part is below the
+            // threshold but not invisible. Follow the ridge of faint ink (or the valley of
+            // faint paper, for a slit) straight ahead while it lasts.
+            let ink = bitmap.sample(tip - u * 0.75) >= bitmap.threshold();
+            let value = |p: Point| {
+                let v = bitmap.sample(p);
+                if ink {
+                    v
+                } else {
+                    1.0 - v
+                }
+            };
+            let step = 0.25;
+            // The ink fades towards the tip; where it rises again, another shape begins.
+            let mut last = 0.0;
+            let mut low = value(tip);
+            let mut s = step;
+            while s <= reach + 1.0 {
+                let v = value(tip + u * s);
+                if v < SPIKE_RIDGE_FLOOR || v > low + SPIKE_RIDGE_RISE {
+                    break;
+                }
+                low = low.min(v);
+                last = s;
+                s += step;
+            }
+            // Any edge fades over about a pixel (the pixel footprint and the bilinear
+            // interpolation); only a longer trail of faint ink is a needle.
+            if last < SPIKE_RIDGE_MIN {
+                continue;
+            }
+            let x = tip + u * last;
+            edits.push((inner_back + 1, inner_ahead - inner_back - 1, x));
+            last_end = inner_ahead;
             continue;
         }
         if !bitmap.is_bilevel() {

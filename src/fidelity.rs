@@ -35,8 +35,11 @@ pub const FLATTEN_STEP: f64 = 0.3;
 /// invented part, and the deviation limit of fits that promise no tolerance.
 pub const SHAPE_LIMIT: f64 = 1.0;
 
-/// Cell size (px) of the spatial grid of drawn edges.
-const CELL: f64 = 4.0;
+/// Cell size (px) of the spatial grid of drawn edges: small, so that a query looks at few
+/// edges, but the grid never holds more than `MAX_CELLS` cells.
+const CELL: f64 = 2.0;
+/// Largest number of cells of the edge grid (16 MB of offsets).
+const MAX_CELLS: f64 = 4.0e6;
 
 /// The verdict on one traced image, as reported.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -155,6 +158,7 @@ fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
 /// A uniform grid of edges (compressed rows: `start[cell]..start[cell + 1]` index `items`).
 struct EdgeGrid {
     edges: Vec<Edge>,
+    cell: f64,
     cols: i64,
     rows: i64,
     start: Vec<u32>,
@@ -177,14 +181,16 @@ impl EdgeGrid {
                 });
             }
         }
-        let cols = (f64::from(width) / CELL).ceil() as i64 + 1;
-        let rows = (f64::from(height) / CELL).ceil() as i64 + 1;
+        let area = f64::from(width) * f64::from(height);
+        let cell = CELL.max((area / MAX_CELLS).sqrt());
+        let cols = (f64::from(width) / cell).ceil() as i64 + 1;
+        let rows = (f64::from(height) / cell).ceil() as i64 + 1;
         let cells = (cols * rows) as usize;
         let range = |e: &Edge| {
-            let c0 = ((e.a.x.min(e.b.x) / CELL).floor() as i64).clamp(0, cols - 1);
-            let c1 = ((e.a.x.max(e.b.x) / CELL).floor() as i64).clamp(0, cols - 1);
-            let r0 = ((e.a.y.min(e.b.y) / CELL).floor() as i64).clamp(0, rows - 1);
-            let r1 = ((e.a.y.max(e.b.y) / CELL).floor() as i64).clamp(0, rows - 1);
+            let c0 = ((e.a.x.min(e.b.x) / cell).floor() as i64).clamp(0, cols - 1);
+            let c1 = ((e.a.x.max(e.b.x) / cell).floor() as i64).clamp(0, cols - 1);
+            let r0 = ((e.a.y.min(e.b.y) / cell).floor() as i64).clamp(0, rows - 1);
+            let r1 = ((e.a.y.max(e.b.y) / cell).floor() as i64).clamp(0, rows - 1);
             (c0, c1, r0, r1)
         };
         let mut count = vec![0u32; cells + 1];
@@ -213,6 +219,7 @@ impl EdgeGrid {
         }
         EdgeGrid {
             edges,
+            cell,
             cols,
             rows,
             start: count,
@@ -223,9 +230,9 @@ impl EdgeGrid {
     /// Nearest edge to `p` within `reach` px (of contour `only`, if given): distance and
     /// contour, or `None` when there is none that close.
     fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, u32)> {
-        let c = (p.x / CELL).floor() as i64;
-        let r = (p.y / CELL).floor() as i64;
-        let k = (reach / CELL).ceil() as i64;
+        let c = (p.x / self.cell).floor() as i64;
+        let r = (p.y / self.cell).floor() as i64;
+        let k = (reach / self.cell).ceil() as i64;
         let mut best: Option<(f64, u32)> = None;
         for row in (r - k).max(0)..=(r + k).min(self.rows - 1) {
             for col in (c - k).max(0)..=(c + k).min(self.cols - 1) {
@@ -243,6 +250,25 @@ impl EdgeGrid {
             }
         }
         best
+    }
+
+    /// True when some edge lies within `reach` px of `p` (stops at the first).
+    fn any_within(&self, p: Point, reach: f64) -> bool {
+        let c = (p.x / self.cell).floor() as i64;
+        let r = (p.y / self.cell).floor() as i64;
+        let k = (reach / self.cell).ceil() as i64;
+        for row in (r - k).max(0)..=(r + k).min(self.rows - 1) {
+            for col in (c - k).max(0)..=(c + k).min(self.cols - 1) {
+                let cell = (row * self.cols + col) as usize;
+                for &i in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
+                    let e = self.edges[i as usize];
+                    if segment_distance(p, e.a, e.b) <= reach {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
     }
 }
 
@@ -333,7 +359,7 @@ pub(crate) fn check(
             let fg = f64::from(coverage[row * w + col]) >= threshold;
             if fg != inside && !excused.contains(&((row * w + col) as u32)) {
                 let centre = Point::new(x, row as f64 + 0.5);
-                if grid.nearest(centre, SHAPE_LIMIT, None).is_none() {
+                if !grid.any_within(centre, SHAPE_LIMIT) {
                     far.insert((row * w + col) as u32);
                 }
             }
