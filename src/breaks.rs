@@ -259,7 +259,9 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
             let square_end = (straight && ca[i] > SQUARE_END_TURN.to_radians())
                 .then(|| square_end_corners(src, &s, total, i, h, (a0, a1), (b0, b1)))
                 .flatten();
-            if let Some(ends) = square_end {
+            // The rounded core of the corner (within h/2 of arc) gives way to the new
+            // corner point(s).
+            let skip_core = |skip: &mut [bool]| {
                 for k in 1..n0 {
                     let mut any = false;
                     for j in [(i + k) % n0, (i + n0 - k) % n0] {
@@ -273,24 +275,15 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
                         break;
                     }
                 }
+            };
+            if let Some(ends) = square_end {
+                skip_core(&mut skip);
                 replace_end[i] = Some(ends);
                 continue;
             }
             if let (true, Some(x)) = (straight, line_intersection(a0, a1, b0, b1)) {
                 if x.distance(src[i]) < h {
-                    for k in 1..n0 {
-                        let mut any = false;
-                        for j in [(i + k) % n0, (i + n0 - k) % n0] {
-                            let d = (s[j] - s[i]).abs();
-                            if d.min(total - d) < 0.5 * h {
-                                skip[j] = true;
-                                any = true;
-                            }
-                        }
-                        if !any {
-                            break;
-                        }
-                    }
+                    skip_core(&mut skip);
                     replace[i] = Some(x);
                 }
             }

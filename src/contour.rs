@@ -98,7 +98,7 @@
 //! ~12 px across come out rounded.
 
 use crate::error::{Error, Result};
-use crate::geom::{signed_area, Point};
+use crate::geom::{distance_to_closed_polyline, signed_area, Point};
 use crate::raster::Bitmap;
 use image::GrayImage;
 use imageproc::contours::{find_contours, BorderType};
@@ -752,6 +752,42 @@ fn smoothed_cracks(cracks: &[Crack]) -> Vec<Point> {
     pts
 }
 
+/// Arc length along a closed polyline at unrolled indices (index k + n is point k one lap
+/// later).
+struct ArcWalk<'a> {
+    /// Cumulative arc length: `cumulative[k]` at point k, the last entry the whole loop.
+    cumulative: &'a [f64],
+}
+
+impl ArcWalk<'_> {
+    /// Arc length at unrolled index `k`.
+    fn arc(&self, k: i64) -> f64 {
+        let n = self.cumulative.len() as i64 - 1;
+        let total = self.cumulative[n as usize];
+        self.cumulative[k.rem_euclid(n) as usize] + total * k.div_euclid(n) as f64
+    }
+
+    /// The last index at least `length` of arc before `i` (at most one lap back).
+    fn back_by(&self, i: i64, length: f64) -> i64 {
+        let n = self.cumulative.len() as i64 - 1;
+        let mut k = i - 1;
+        while k > i - n && self.arc(i) - self.arc(k) < length {
+            k -= 1;
+        }
+        k
+    }
+
+    /// The first index at least `length` of arc after `i` (at most one lap ahead).
+    fn ahead_by(&self, i: i64, length: f64) -> i64 {
+        let n = self.cumulative.len() as i64 - 1;
+        let mut k = i + 1;
+        while k < i + n && self.arc(k) - self.arc(i) < length {
+            k += 1;
+        }
+        k
+    }
+}
+
 /// Noise level (px, [`outline_noise`]) above which a grey-level outline is traced from its
 /// thresholded pixels instead: clean anti-aliased edges measure 0.005–0.02 px (glyphs at
 /// 64 and 256 px, icons, stress shapes), a bilevel horse saved as a JPEG at quality 30
@@ -831,22 +867,10 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         return;
     }
     let nn = n as i64;
-    let s = |k: i64| arc[k.rem_euclid(nn) as usize] + total * k.div_euclid(nn) as f64;
+    let walk = ArcWalk { cumulative: &arc };
     let at = |k: i64| points[k.rem_euclid(nn) as usize];
-    let back_by = |i: i64, len: f64| {
-        let mut k = i - 1;
-        while k > i - nn && s(i) - s(k) < len {
-            k -= 1;
-        }
-        k
-    };
-    let ahead_by = |i: i64, len: f64| {
-        let mut k = i + 1;
-        while k < i + nn && s(k) - s(i) < len {
-            k += 1;
-        }
-        k
-    };
+    let back_by = |i: i64, len: f64| walk.back_by(i, len);
+    let ahead_by = |i: i64, len: f64| walk.ahead_by(i, len);
     let turn: Vec<f64> = (0..nn)
         .map(|i| {
             turn_angle(
@@ -1783,23 +1807,13 @@ impl Workspace {
             return;
         }
         let nn = n as i64;
-        let arc = |k: i64| self.values[k.rem_euclid(nn) as usize] + total * k.div_euclid(nn) as f64;
+        let walk = ArcWalk {
+            cumulative: &self.values,
+        };
+        let arc = |k: i64| walk.arc(k);
         let at = |k: i64| self.points[k.rem_euclid(nn) as usize];
-        // The last index at least `length` of arc before / after i.
-        let back_by = |i: i64, length: f64| {
-            let mut k = i - 1;
-            while k > i - nn && arc(i) - arc(k) < length {
-                k -= 1;
-            }
-            k
-        };
-        let ahead_by = |i: i64, length: f64| {
-            let mut k = i + 1;
-            while k < i + nn && arc(k) - arc(i) < length {
-                k += 1;
-            }
-            k
-        };
+        let back_by = |i: i64, length: f64| walk.back_by(i, length);
+        let ahead_by = |i: i64, length: f64| walk.ahead_by(i, length);
         // Chord angle at every point (two pointers).
         let mut angles = std::mem::take(&mut self.angles);
         angles.clear();
@@ -2200,24 +2214,6 @@ struct WindowPoint {
     /// Half the crack normal, as (u, v): the background pixel centre is at
     /// (u, v) + this, the foreground centre at (u, v) − this.
     half_normal: Point,
-}
-
-/// Distance from `p` to a closed polyline.
-fn distance_to_closed_polyline(p: Point, pts: &[Point]) -> f64 {
-    let n = pts.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (pts[i], pts[(i + 1) % n]);
-            let ab = b - a;
-            let len2 = ab.length_squared();
-            let t = if len2 > 0.0 {
-                ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            norm(p - (a + ab * t))
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// Euclidean length without `hypot` (which is several times slower and whose extra

@@ -23,7 +23,7 @@
 
 use crate::export::svg::drawing_pieces;
 use crate::fit::FittedContour;
-use crate::geom::Point;
+use crate::geom::{distance_to_closed_polyline, segment_distance, Point};
 use crate::raster::Bitmap;
 use serde::Serialize;
 use std::collections::HashSet;
@@ -115,18 +115,6 @@ struct Edge {
     a: Point,
     b: Point,
     contour: u32,
-}
-
-/// Distance from `p` to segment ab.
-fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    p.distance(a + ab * t)
 }
 
 /// The drawn outline of every contour as closed polylines.
@@ -272,15 +260,6 @@ impl EdgeGrid {
     }
 }
 
-/// Distance from `p` to a closed polyline (brute force).
-fn polyline_distance(p: Point, line: &[Point]) -> f64 {
-    let n = line.len();
-    (0..n)
-        .map(|k| segment_distance(p, line[k], line[(k + 1) % n]))
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Checks the drawn outline of `contours` against `bitmap` (see the module docs).
 /// Pixels in `excused` (specks dropped on purpose) never count as far.
 pub(crate) fn check(
     bitmap: &Bitmap,
@@ -305,7 +284,7 @@ pub(crate) fn check(
             .iter()
             .map(|&p| match grid.nearest(p, reach, Some(i as u32)) {
                 Some((d, _)) => d,
-                None => polyline_distance(p, &polylines[i]),
+                None => distance_to_closed_polyline(p, &polylines[i]),
             })
             .collect();
         let n = deviation.len();

@@ -150,6 +150,26 @@ pub fn signed_area(points: &[Point]) -> f64 {
     0.5 * acc
 }
 
+/// Distance from `p` to the segment from `a` to `b` (to `a` when they coincide).
+pub fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + ab * t)
+}
+
+/// Distance from `p` to a closed polyline (infinite for an empty one).
+pub fn distance_to_closed_polyline(p: Point, points: &[Point]) -> f64 {
+    let n = points.len();
+    (0..n)
+        .map(|k| segment_distance(p, points[k], points[(k + 1) % n]))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Angle in radians, in [0, π], between two non-zero vectors; 0 for a zero vector.
 pub fn angle_between(a: Point, b: Point) -> f64 {
     let la = a.length();
