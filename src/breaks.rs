@@ -428,9 +428,13 @@ fn square_end_corners(
     if da.dot(db) > -SQUARE_END_PARALLEL.to_radians().cos() {
         return None;
     }
-    let across = at(0.5 * h) - at(-0.5 * h);
-    let dir = across.normalized()?;
-    let (e0, e1) = (src[i] - dir, src[i] + dir);
+    // The end runs across the sides, through the point of the core that reaches farthest
+    // along them.
+    let dir = da.perp();
+    let tip = (0..=16)
+        .map(|k| at(-0.5 * h + k as f64 * h / 16.0))
+        .max_by(|p, q| p.dot(da).total_cmp(&q.dot(da)))?;
+    let (e0, e1) = (tip - dir, tip + dir);
     let x = line_intersection(side_a.0, side_a.1, e0, e1)?;
     let y = line_intersection(e0, e1, side_b.0, side_b.1)?;
     let close = |p: Point| p.distance(src[i]) < h;
