@@ -845,6 +845,11 @@ const SPIKE_RIDGE_FLOOR: f64 = 0.06;
 /// Longest extension (px) of a tip of a bilevel image, which shows no evidence beyond
 /// the last pixel (side lines that meet up to three times farther are followed this far).
 const SPIKE_MAX_EXTENSION_BILEVEL: f64 = 2.0;
+/// Longest extension (px) of a bilevel tip however thin its spike.
+const SPIKE_MAX_EXTENSION_BILEVEL_THIN: f64 = 4.0;
+/// Widest end (px, between the side lines at the old tip) that a bilevel spike can have
+/// where the threshold cut it: the last pixel inside the spike, and some.
+const SPIKE_BILEVEL_CUT_WIDTH: f64 = 1.5;
 
 /// Extends the tips of spikes (and the ends of slits) that thresholding and smoothing cut
 /// short: where the outline turns by more than `SPIKE_TURN_DEG` and both sides are
@@ -880,11 +885,7 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         })
         .collect();
     let limit = SPIKE_TURN_DEG.to_radians();
-    let max_move = if bitmap.is_bilevel() {
-        SPIKE_MAX_EXTENSION_BILEVEL
-    } else {
-        SPIKE_MAX_EXTENSION
-    };
+    let bilevel = bitmap.is_bilevel();
     // (first replaced unrolled index, count, new tip)
     let mut edits: Vec<(i64, i64, Point)> = Vec::new();
     let mut last_end = i64::MIN;
@@ -924,7 +925,21 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         if !x.is_finite() || reach < 0.25 {
             continue;
         }
-        if reach > 3.0 * max_move && (bitmap.is_bilevel() || reach > SPIKE_RIDGE_REACH) {
+        let max_move = if bilevel {
+            let (Some(a), Some(b)) = (unit(at(outer_back) - x), unit(at(outer_ahead) - x)) else {
+                continue;
+            };
+            let half_opening = a.dot(b).clamp(-1.0, 1.0).acos() / 2.0;
+            // A tip the threshold cut short ends in about one pixel; a wider end is a
+            // blunt end (a serif's flat end between two corners), not a cut spike.
+            if 2.0 * reach * half_opening.tan() > SPIKE_BILEVEL_CUT_WIDTH {
+                continue;
+            }
+            bilevel_tip_loss(half_opening)
+        } else {
+            SPIKE_MAX_EXTENSION
+        };
+        if reach > 3.0 * max_move && (bilevel || reach > SPIKE_RIDGE_REACH) {
             continue;
         }
         // The new tip must lie ahead of the old one, away from both sides.
@@ -935,7 +950,7 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         if (tip - mid_sides).dot(u) <= 0.0 {
             continue;
         }
-        if reach > max_move && !bitmap.is_bilevel() {
+        if reach > max_move && !bilevel {
             // A needle whose sides meet far ahead: its thinnest part is below the
             // threshold but not invisible. Follow the ridge of faint ink (or the valley of
             // faint paper, for a slit) straight ahead while it lasts.
@@ -972,7 +987,7 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
             last_end = inner_ahead;
             continue;
         }
-        if !bitmap.is_bilevel() {
+        if !bilevel {
             // Ink (or paper, for a slit) must fade from the old tip towards the new one.
             let inner = bitmap.sample(tip - u * 0.75) >= bitmap.threshold();
             let mid = bitmap.sample((tip + x) * 0.5);
@@ -1021,6 +1036,16 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         }
     }
     *points = out;
+}
+
+/// How far (px) a bilevel image may have cut a spike of half-opening α (radians) short:
+/// the first pixel centre inside a wedge lies on average ½·√(π / tan α) from its tip
+/// (pixel centres as points of unit density, which holds for thin wedges at any
+/// orientation). At least `SPIKE_MAX_EXTENSION_BILEVEL` (a 30° star point is cut by
+/// about that much), at most `SPIKE_MAX_EXTENSION_BILEVEL_THIN`.
+fn bilevel_tip_loss(half_opening: f64) -> f64 {
+    let expected = 0.5 * (std::f64::consts::PI / half_opening.tan().max(1e-9)).sqrt();
+    expected.clamp(SPIKE_MAX_EXTENSION_BILEVEL, SPIKE_MAX_EXTENSION_BILEVEL_THIN)
 }
 
 /// Orients a finished outline and applies the size rules; `None` when it is dropped.

@@ -18,7 +18,7 @@ use super::{FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::{arc_lengths, SegmentedContour};
 use crate::curve::approximate_with_cubics;
 use crate::export::svg::SvgOptions;
-use crate::geom::{angle_between, Point};
+use crate::geom::{angle_between, segment_distance, Point};
 use crate::Config;
 use std::time::Instant;
 
@@ -180,12 +180,7 @@ pub(super) fn fit_piece(
     cyclic_run(points, a.index, b.index, buf);
     let start = a.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
     let end = b.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
-    let residual = |sol: &SegmentSolution| {
-        buf.iter()
-            .zip(&sol.params)
-            .map(|(q, &u)| sol.curve.eval(u).distance(*q))
-            .fold(0.0, f64::max)
-    };
+    let residual = |sol: &SegmentSolution| drawn_residual(buf, sol);
     // A polynomial cubic is what SVG draws exactly: prefer it whenever it is within
     // tolerance; otherwise search the weights.
     let poly = fit_segment(buf, start, end, &polynomial);
@@ -214,6 +209,25 @@ pub(super) fn fit_piece(
         max_residual,
         pieces,
     }
+}
+
+/// Largest distance between a fitted segment and its run of points, both ways: from each
+/// point to the curve at its parameter, and from the curve halfway between two
+/// consecutive parameters to the chord of those points. The second catches a curve that
+/// passes through every point but loops out between two of them (a short segment with
+/// long tangent handles), which the first cannot see.
+fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
+    let at_points = points
+        .iter()
+        .zip(&sol.params)
+        .map(|(q, &u)| sol.curve.eval(u).distance(*q))
+        .fold(0.0, f64::max);
+    let between = points
+        .windows(2)
+        .zip(sol.params.windows(2))
+        .map(|(q, u)| segment_distance(sol.curve.eval(0.5 * (u[0] + u[1])), q[0], q[1]))
+        .fold(0.0, f64::max);
+    at_points.max(between)
 }
 
 /// Fits a closed chain of segments to a segmented contour.

@@ -647,6 +647,18 @@ pub fn fit_segment(
             evaluations: 0,
         };
     }
+    let any_free = matches!(start, EndCondition::Free) || matches!(end, EndCondition::Free);
+    if points.len() == 3 && any_free {
+        // One interior point cannot determine a free handle (two unknowns each): the
+        // normal equations are singular and their solution arbitrary (a loop far from
+        // the points). Take the nearest curve to the straight one through the point.
+        let curve = bent_straight_segment(points, params[1], start, end);
+        return SegmentSolution {
+            curve,
+            params,
+            evaluations: 1,
+        };
+    }
     let centripetal = params.clone();
     let mut evaluations = 0;
     let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
@@ -803,6 +815,55 @@ fn straight_segment(c0: Point, c3: Point, start: EndCondition, end: EndCondition
         EndCondition::Tangent(t) => c3 - t * third.max(1e-9),
     };
     RationalCubic::new([c0, c1, c2, c3], [1.0, 1.0])
+}
+
+/// The cubic through three points (the middle one at parameter `u`) whose inner control
+/// points are nearest to those of the straight segment (chord thirds, or along the given
+/// tangents): the least-norm change of the handles that moves the curve at `u` onto the
+/// middle point. A free handle moves in any direction, a tangent handle only along its
+/// tangent.
+fn bent_straight_segment(
+    points: &[Point],
+    u: f64,
+    start: EndCondition,
+    end: EndCondition,
+) -> RationalCubic {
+    let (c0, c3) = (points[0], points[points.len() - 1]);
+    let straight = straight_segment(c0, c3, start, end);
+    let [_, c1, c2, _] = straight.points;
+    let v = 1.0 - u;
+    let basis = [3.0 * u * v * v, 3.0 * u * u * v];
+    let conditions = [start, end];
+    let miss = points[1] - straight.eval(u);
+    // M = Σ b² P over the handles, P the identity (free) or t tᵀ (tangent).
+    let mut m = [[0.0; 2]; 2];
+    for (b, c) in basis.iter().zip(conditions) {
+        let p = match c {
+            EndCondition::Free => [[1.0, 0.0], [0.0, 1.0]],
+            EndCondition::Tangent(t) => [[t.x * t.x, t.x * t.y], [t.x * t.y, t.y * t.y]],
+        };
+        for (row, prow) in m.iter_mut().zip(p) {
+            for (e, pe) in row.iter_mut().zip(prow) {
+                *e += b * b * pe;
+            }
+        }
+    }
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    if det.abs() < 1e-18 {
+        return straight;
+    }
+    let lambda = Point::new(
+        (m[1][1] * miss.x - m[0][1] * miss.y) / det,
+        (m[0][0] * miss.y - m[1][0] * miss.x) / det,
+    );
+    let shift = |b: f64, c: EndCondition| match c {
+        EndCondition::Free => lambda * b,
+        EndCondition::Tangent(t) => t * (b * t.dot(lambda)),
+    };
+    RationalCubic::new(
+        [c0, c1 + shift(basis[0], start), c2 + shift(basis[1], end), c3],
+        [1.0, 1.0],
+    )
 }
 
 /// Moves every interior parameter to the foot of its point on the curve (local Newton).
@@ -1133,6 +1194,46 @@ mod tests {
         assert!(e < 1e-20);
         assert!(c.points[1].distance(truth.points[1]) < 1e-9);
         assert!(c.points[2].distance(truth.points[2]) < 1e-9);
+    }
+
+    /// Three points between two corners (a serif's short flat end) used to give an
+    /// arbitrary solution of a singular system: a loop 2.4 px out from the points.
+    #[test]
+    fn three_points_with_a_free_end_give_a_curve_through_them_without_a_loop() {
+        let points = [
+            Point::new(32.986_531, 38.173_453),
+            Point::new(33.011_039, 37.447_736),
+            Point::new(33.113_380, 35.928_570),
+        ];
+        let tangent = Point::new(1.0, 0.0);
+        for (start, end) in [
+            (EndCondition::Free, EndCondition::Free),
+            (EndCondition::Free, EndCondition::Tangent(tangent)),
+            (EndCondition::Tangent(Point::new(0.0, -1.0)), EndCondition::Free),
+        ] {
+            let sol = fit_segment(&points, start, end, &FitSettings::polynomial());
+            let c = sol.curve;
+            assert!(c.eval(sol.params[1]).distance(points[1]) < 1e-9, "{start:?} {end:?}");
+            assert_eq!((c.eval(0.0), c.eval(1.0)), (points[0], points[2]));
+            if let EndCondition::Tangent(t) = end {
+                let arrival = (c.points[3] - c.points[2]).normalized().unwrap();
+                assert!(arrival.cross(t).abs() < 1e-12, "{start:?} {end:?}");
+            }
+            if let EndCondition::Tangent(t) = start {
+                let leaving = (c.points[1] - c.points[0]).normalized().unwrap();
+                assert!(leaving.cross(t).abs() < 1e-12, "{start:?} {end:?}");
+            }
+            // Nothing of the curve strays from the points by more than the chord's length.
+            let chord = points[0].distance(points[2]);
+            let far = (0..=100)
+                .map(|i| {
+                    let p = c.eval(i as f64 / 100.0);
+                    crate::geom::segment_distance(p, points[0], points[1])
+                        .min(crate::geom::segment_distance(p, points[1], points[2]))
+                })
+                .fold(0.0, f64::max);
+            assert!(far < 0.5 * chord, "{start:?} {end:?}: {far}");
+        }
     }
 }
 
