@@ -847,9 +847,6 @@ const SPIKE_RIDGE_FLOOR: f64 = 0.06;
 const SPIKE_MAX_EXTENSION_BILEVEL: f64 = 2.0;
 /// Longest extension (px) of a bilevel tip however thin its spike.
 const SPIKE_MAX_EXTENSION_BILEVEL_THIN: f64 = 4.0;
-/// Widest end (px, between the side lines at the old tip) that a bilevel spike can have
-/// where the threshold cut it: the last pixel inside the spike, and some.
-const SPIKE_BILEVEL_CUT_WIDTH: f64 = 1.5;
 
 /// Extends the tips of spikes (and the ends of slits) that thresholding and smoothing cut
 /// short: where the outline turns by more than `SPIKE_TURN_DEG` and both sides are
@@ -929,13 +926,7 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
             let (Some(a), Some(b)) = (unit(at(outer_back) - x), unit(at(outer_ahead) - x)) else {
                 continue;
             };
-            let half_opening = a.dot(b).clamp(-1.0, 1.0).acos() / 2.0;
-            // A tip the threshold cut short ends in about one pixel; a wider end is a
-            // blunt end (a serif's flat end between two corners), not a cut spike.
-            if 2.0 * reach * half_opening.tan() > SPIKE_BILEVEL_CUT_WIDTH {
-                continue;
-            }
-            bilevel_tip_loss(half_opening)
+            bilevel_tip_loss(a.dot(b).clamp(-1.0, 1.0).acos() / 2.0)
         } else {
             SPIKE_MAX_EXTENSION
         };
