@@ -14,18 +14,30 @@
 use crate::error::{Error, Result};
 use std::fs::{self, OpenOptions};
 use std::io::{self, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// Distinguishes temporary files of concurrent writes within one process.
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// Writes `bytes` to `path` atomically: to a temporary file `<name>.tmp-<pid>-<n>` in the
-/// same directory, then renamed over `path`, replacing an existing file whole (its
-/// permissions are kept).
+/// The temporary files being written right now, for [`remove_live_temporaries`].
+static LIVE_TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// What every temporary file's name contains: `<name>` + `TEMP_MARK` + `<pid>-<n>`.
+pub const TEMP_MARK: &str = ".outlinefit-tmp-";
+
+/// Writes `bytes` to `path` atomically: to a temporary file `<name>.outlinefit-tmp-<pid>-<n>`
+/// in the same directory, then renamed over `path`, replacing an existing regular file
+/// whole (its permissions are kept).
+///
+/// Only regular files are written: a `path` that exists as anything else (a symbolic link,
+/// a device such as `/dev/null`, a FIFO, a folder) is refused, since the rename would
+/// replace it. To write through a link, resolve it first.
 ///
 /// Errors: [`Error::Write`] naming `path` when the parent folder does not exist, `path` has
-/// no file name, or any step fails; the temporary file is removed in every failure case.
+/// no file name or is not a regular file, or any step fails; the temporary file is removed
+/// in every failure case.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let fail = |source: io::Error| Error::Write {
         path: path.to_path_buf(),
@@ -42,13 +54,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         Error::Write { source, .. } => fail(source),
         other => other,
     })?;
+    check_replaceable(path).map_err(fail)?;
     let mut temp_name = name.to_os_string();
     temp_name.push(format!(
-        ".tmp-{}-{}",
+        "{TEMP_MARK}{}-{}",
         std::process::id(),
         TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
     ));
     let temp = dir.join(temp_name);
+    track(&temp, true);
     let result = write_new(&temp, bytes).and_then(|()| {
         if let Ok(meta) = fs::metadata(path) {
             // Best effort: a replaced file keeps its permissions.
@@ -56,11 +70,103 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         }
         fs::rename(&temp, path)
     });
-    result.map_err(|source| {
+    let result = result.map_err(|source| {
         // The temporary may or may not exist, depending on which step failed.
         let _ = fs::remove_file(&temp);
         fail(source)
-    })
+    });
+    track(&temp, false);
+    result
+}
+
+/// Refuses a target that exists and is not a regular file.
+pub fn check_replaceable(path: &Path) -> io::Result<()> {
+    let meta = match fs::symlink_metadata(path) {
+        Ok(meta) => meta,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(e),
+    };
+    let what = file_kind(&meta.file_type());
+    if what == "regular file" {
+        return Ok(());
+    }
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("it is a {what}, not a regular file; outputs never replace one"),
+    ))
+}
+
+/// A file type in words.
+pub fn file_kind(t: &fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "FIFO";
+        }
+        if t.is_char_device() || t.is_block_device() {
+            return "device";
+        }
+        if t.is_socket() {
+            return "socket";
+        }
+    }
+    if t.is_symlink() {
+        "symbolic link"
+    } else if t.is_dir() {
+        "folder"
+    } else if t.is_file() {
+        "regular file"
+    } else {
+        "special file"
+    }
+}
+
+/// Adds (`live`) or removes a temporary file from the registry of those being written.
+fn track(temp: &Path, live: bool) {
+    let mut temps = LIVE_TEMPS.lock().unwrap_or_else(|e| e.into_inner());
+    if live {
+        temps.push(temp.to_path_buf());
+    } else {
+        temps.retain(|t| t != temp);
+    }
+}
+
+/// Removes every temporary file this process is writing: for a signal handler that is
+/// about to end the process, so that an interrupted run leaves no debris.
+pub fn remove_live_temporaries() {
+    let temps = LIVE_TEMPS.lock().unwrap_or_else(|e| e.into_inner());
+    for t in temps.iter() {
+        let _ = fs::remove_file(t);
+    }
+}
+
+/// Removes the temporary files that an earlier run killed mid-write left in `dir` (names
+/// containing [`TEMP_MARK`] of a process that no longer runs; on systems without `/proc`,
+/// of any other process). Returns how many were removed.
+pub fn remove_stale_temporaries(dir: &Path) -> usize {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return 0;
+    };
+    let me = std::process::id();
+    let proc_fs = Path::new("/proc/self").exists();
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let Some((_, tail)) = name.rsplit_once(TEMP_MARK) else {
+            continue;
+        };
+        let Some(pid) = tail.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        let running = pid == me || (proc_fs && Path::new(&format!("/proc/{pid}")).exists());
+        let regular = entry.file_type().is_ok_and(|t| t.is_file());
+        if !running && regular && fs::remove_file(entry.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
 }
 
 /// Checks that the folder `dir` exists and is a folder, so that a run can fail before doing

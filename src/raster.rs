@@ -30,8 +30,6 @@
 use crate::error::{Error, Result};
 use crate::geom::Point;
 use image::{DynamicImage, GenericImageView, GrayImage, ImageDecoder, ImageReader, Limits};
-use std::fs::File;
-use std::io::BufReader;
 use std::path::Path;
 
 /// Rec. 601 luma weights of red, green and blue.
@@ -548,29 +546,48 @@ pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
     Ok(bitmap)
 }
 
-/// Loads an image file into a [`Bitmap`].
+/// Loads an image file into a [`Bitmap`]; see [`load_bytes`].
 ///
-/// The format is recognised from the content, not the file name. The dimensions are read
-/// from the header and checked before any pixel is decoded, and the decoder's memory is
-/// capped in proportion to `opts.max_pixels`, so a hostile header cannot make it allocate
-/// much more than an accepted image would need.
-///
-/// Errors: [`Error::Read`] when the file cannot be opened or read; [`Error::Decode`] when it
-/// is not a supported image or is truncated or corrupt; [`Error::ZeroSize`];
-/// [`Error::TooLarge`].
+/// Errors: [`Error::Read`] when the file cannot be opened or read, and those of
+/// [`load_bytes`].
 pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
-    let read_error = |source| Error::Read {
+    let bytes = std::fs::read(path).map_err(|source| Error::Read {
         path: path.to_path_buf(),
         source,
-    };
+    })?;
+    load_bytes(&bytes, path, opts)
+}
+
+/// Decodes an encoded image (`name` names it in errors) into a [`Bitmap`].
+///
+/// The format is recognised from the content, not the name. The dimensions are read from
+/// the header and checked before any pixel is decoded, and the decoder's memory is capped
+/// in proportion to `opts.max_pixels`, so a hostile header cannot make it allocate much
+/// more than an accepted image would need. The EXIF orientation (JPEG, PNG, TIFF, WebP) is
+/// applied as image viewers do, so a phone photo is traced upright. Animated and
+/// multi-page files give their first frame. A JPEG without its end-of-image marker is
+/// refused as truncated: its decoder fills the missing rows silently.
+///
+/// Errors: [`Error::Decode`] when the bytes are not a supported image or are truncated or
+/// corrupt, or the colour type is not supported; [`Error::ZeroSize`];
+/// [`Error::TooLarge`].
+pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     let decode_error = |source| Error::Decode {
-        path: path.to_path_buf(),
+        path: name.to_path_buf(),
         source,
     };
-    let file = File::open(path).map_err(read_error)?;
-    let mut reader = ImageReader::new(BufReader::new(file))
+    let mut reader = ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
-        .map_err(read_error)?;
+        .map_err(|source| Error::Read {
+            path: name.to_path_buf(),
+            source,
+        })?;
+    if reader.format() == Some(image::ImageFormat::Jpeg) && !jpeg_is_complete(bytes) {
+        return Err(decode_error(image::ImageError::IoError(std::io::Error::new(
+            std::io::ErrorKind::UnexpectedEof,
+            "truncated JPEG (no end-of-image marker)",
+        ))));
+    }
     let mut limits = Limits::default();
     limits.max_alloc = Some(
         opts.max_pixels
@@ -578,12 +595,28 @@ pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
             .saturating_add(DECODE_SLACK_BYTES),
     );
     reader.limits(limits);
-    let decoder = reader.into_decoder().map_err(decode_error)?;
+    let mut decoder = reader.into_decoder().map_err(decode_error)?;
     let (width, height) = decoder.dimensions();
     check_dimensions(width, height, opts.max_pixels)?;
-    let img = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
+    // A missing or unreadable orientation tag means upright.
+    let orientation = decoder
+        .orientation()
+        .unwrap_or(image::metadata::Orientation::NoTransforms);
+    let mut img = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
+    img.apply_orientation(orientation);
     from_image(&img, opts)
 }
+
+/// True when JPEG data ends with its end-of-image marker (FF D9), allowing for the
+/// padding some writers append after it.
+fn jpeg_is_complete(bytes: &[u8]) -> bool {
+    let tail = &bytes[bytes.len().saturating_sub(JPEG_TAIL_SLACK)..];
+    tail.windows(2).any(|w| w == [0xFF, 0xD9])
+}
+
+/// Bytes after a JPEG's last end-of-image marker that are still accepted (zero padding,
+/// a camera's trailer).
+const JPEG_TAIL_SLACK: usize = 4096;
 
 #[cfg(test)]
 mod tests {

@@ -4,6 +4,7 @@ mod batch;
 mod bspline;
 mod compare;
 mod merge;
+mod output;
 mod reduce;
 mod trace;
 
@@ -270,11 +271,6 @@ pub(crate) fn run() -> anyhow::Result<i32> {
         Command::Bspline(args) => bspline::run(&args),
         Command::Merge(args) => merge::run(&args),
     }
-}
-
-/// True when `p` means standard output.
-fn is_stdout(p: &std::path::Path) -> bool {
-    p.as_os_str() == "-"
 }
 
 /// The default SVG path for an input: the input's name with `.svg`, in the same folder.

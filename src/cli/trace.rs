@@ -1,28 +1,31 @@
 //! `outlinefit trace`: one image in, an SVG and optional reports out.
 
-use super::{default_svg_path, fidelity_problem, is_stdout, trace_warnings, FitArgs};
-use anyhow::bail;
+use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_stdout};
+use super::{default_svg_path, fidelity_problem, trace_warnings, FitArgs};
+use anyhow::{bail, Context};
 use clap::Args;
 use outlinefit::export::overlay::{to_overlay_svg, OverlayOptions};
 use outlinefit::export::svg::{to_svg, SvgOptions};
 use outlinefit::io::{ensure_output_dir_exists, write_atomic};
 use outlinefit::{raster, report, trace_bitmap};
-use std::io::Write;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `trace`.
 #[derive(Args, Debug)]
 pub(crate) struct TraceArgs {
-    /// The image to trace (PNG, JPEG, BMP, GIF, TIFF, WebP, PBM/PGM/PPM).
+    /// The image to trace (PNG, JPEG, BMP, GIF, TIFF, WebP, PBM/PGM/PPM); `-` reads it from
+    /// standard input.
     input: PathBuf,
     /// Where to write the SVG; `-` for standard output. Default: the input's path with
-    /// the extension `.svg`.
+    /// the extension `.svg` (standard output when the input is `-`).
     #[arg(short = 'o', long = "output", value_name = "OUT.svg")]
     output: Option<PathBuf>,
-    /// Write the JSON report (configuration, every segment, every joint) here.
+    /// Write the JSON report (configuration, every segment, every joint) here (`-`:
+    /// standard output).
     #[arg(long, value_name = "R.json")]
     report: Option<PathBuf>,
-    /// Write the CSV report (one row per segment) here.
+    /// Write the CSV report (one row per segment) here (`-`: standard output).
     #[arg(long, value_name = "R.csv")]
     csv: Option<PathBuf>,
     /// Write a diagnostic SVG: input image, data points, corners, smooth joints, control
@@ -32,6 +35,10 @@ pub(crate) struct TraceArgs {
     /// Include every data point's curve parameter in the JSON report.
     #[arg(long)]
     params: bool,
+    /// Write through symbolic links to their targets (without it, an output that is a
+    /// link is refused). Devices, FIFOs and folders are always refused.
+    #[arg(long)]
+    follow_symlinks: bool,
     #[command(flatten)]
     fit: FitArgs,
 }
@@ -39,30 +46,65 @@ pub(crate) struct TraceArgs {
 pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     let config = args.fit.config()?;
     config.validate()?;
-    let svg_path = args
-        .output
-        .clone()
-        .unwrap_or_else(|| default_svg_path(&args.input));
-    // Refuse to overwrite the input, and check every output folder before any work.
-    let outputs: Vec<&Path> = [
-        Some(svg_path.as_path()),
-        args.report.as_deref(),
-        args.csv.as_deref(),
-        args.overlay.as_deref(),
-    ]
-    .into_iter()
-    .flatten()
-    .filter(|p| !is_stdout(p))
-    .collect();
-    for p in &outputs {
-        if same_file(p, &args.input) {
-            bail!("output {} would overwrite the input", p.display());
+    let from_stdin = is_dash(&args.input);
+    let svg_path = match &args.output {
+        Some(p) => p.clone(),
+        None if from_stdin => PathBuf::from("-"),
+        None => {
+            if args.input.starts_with("/dev") || args.input.starts_with("/proc") {
+                bail!(
+                    "{} names a device or process file; give the SVG's path with -o (or -o - for standard output)",
+                    args.input.display()
+                );
+            }
+            if let Some(kind) = not_regular(&args.input) {
+                bail!(
+                    "{} is a {kind}; give the SVG's path with -o (or -o - for standard output)",
+                    args.input.display()
+                );
+            }
+            default_svg_path(&args.input)
         }
-        ensure_output_dir_exists(p.parent().unwrap_or(Path::new("")))?;
+    };
+    // Check every output before any work: distinct files, none the input, each a regular
+    // file (or a link followed on request) in an existing folder.
+    let named = [
+        ("-o", Some(svg_path.as_path())),
+        ("--report", args.report.as_deref()),
+        ("--csv", args.csv.as_deref()),
+        ("--overlay", args.overlay.as_deref()),
+    ];
+    let named: Vec<(&str, &Path)> = named.iter().filter_map(|(o, p)| p.map(|p| (*o, p))).collect();
+    let mut resolved: Vec<PathBuf> = Vec::with_capacity(named.len());
+    for (_, p) in &named {
+        if is_dash(p) {
+            resolved.push(p.to_path_buf());
+            continue;
+        }
+        let target = resolve_output(p, args.follow_symlinks)?;
+        ensure_output_dir_exists(target.parent().unwrap_or(Path::new("")))?;
+        resolved.push(target);
     }
-    let bitmap = raster::load(&args.input, &config.raster_options())?;
+    let targets: Vec<(&str, &Path)> =
+        named.iter().zip(&resolved).map(|((o, _), t)| (*o, t.as_path())).collect();
+    check_distinct(&targets, Some(&args.input))?;
+
+    let bitmap = if from_stdin {
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .lock()
+            .read_to_end(&mut bytes)
+            .context("cannot read standard input")?;
+        raster::load_bytes(&bytes, Path::new("<stdin>"), &config.raster_options())?
+    } else {
+        raster::load(&args.input, &config.raster_options())?
+    };
     let result = trace_bitmap(&bitmap, &config)?;
-    let name = args.input.display().to_string();
+    let name = if from_stdin {
+        "<stdin>".to_string()
+    } else {
+        args.input.display().to_string()
+    };
     if args.fit.strict {
         if let Some(problem) = fidelity_problem(&config, &result) {
             bail!("{name}: {problem}; nothing written (--strict)");
@@ -71,38 +113,23 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     for w in trace_warnings(&name, &config, &result) {
         eprintln!("warning: {w}");
     }
-    let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+    let write = |target: &Path, bytes: &[u8]| -> anyhow::Result<()> {
+        if is_dash(target) {
+            write_stdout(bytes)
+        } else {
+            Ok(write_atomic(target, bytes)?)
+        }
+    };
     // Reports first, the SVG last: a finished SVG means everything else is there too.
-    if let Some(p) = &args.report {
-        write_atomic(
-            p,
-            report::to_json(&config, &[(&name, &result)], args.params).as_bytes(),
-        )?;
+    for ((option, _), target) in named.iter().zip(&resolved).skip(1) {
+        let bytes = match *option {
+            "--report" => report::to_json(&config, &[(&name, &result)], args.params),
+            "--csv" => report::to_csv(&config, &[(&name, &result)]),
+            _ => to_overlay_svg(&result, Some(&bitmap.preview()), &OverlayOptions::default()),
+        };
+        write(target, bytes.as_bytes())?;
     }
-    if let Some(p) = &args.csv {
-        write_atomic(p, report::to_csv(&config, &[(&name, &result)]).as_bytes())?;
-    }
-    if let Some(p) = &args.overlay {
-        let preview = bitmap.preview();
-        write_atomic(
-            p,
-            to_overlay_svg(&result, Some(&preview), &OverlayOptions::default()).as_bytes(),
-        )?;
-    }
-    if is_stdout(&svg_path) {
-        let mut out = std::io::stdout().lock();
-        out.write_all(svg.as_bytes())?;
-        out.flush()?;
-    } else {
-        write_atomic(&svg_path, svg.as_bytes())?;
-    }
+    let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+    write(&resolved[0], svg.as_bytes())?;
     Ok(0)
-}
-
-/// True when two paths name the same existing file.
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }
