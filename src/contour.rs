@@ -1036,7 +1036,10 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
 /// about that much), at most `SPIKE_MAX_EXTENSION_BILEVEL_THIN`.
 fn bilevel_tip_loss(half_opening: f64) -> f64 {
     let expected = 0.5 * (std::f64::consts::PI / half_opening.tan().max(1e-9)).sqrt();
-    expected.clamp(SPIKE_MAX_EXTENSION_BILEVEL, SPIKE_MAX_EXTENSION_BILEVEL_THIN)
+    expected.clamp(
+        SPIKE_MAX_EXTENSION_BILEVEL,
+        SPIKE_MAX_EXTENSION_BILEVEL_THIN,
+    )
 }
 
 /// Orients a finished outline and applies the size rules; `None` when it is dropped.

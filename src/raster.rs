@@ -583,10 +583,12 @@ pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bit
             source,
         })?;
     if reader.format() == Some(image::ImageFormat::Jpeg) && !jpeg_is_complete(bytes) {
-        return Err(decode_error(image::ImageError::IoError(std::io::Error::new(
-            std::io::ErrorKind::UnexpectedEof,
-            "truncated JPEG (no end-of-image marker)",
-        ))));
+        return Err(decode_error(image::ImageError::IoError(
+            std::io::Error::new(
+                std::io::ErrorKind::UnexpectedEof,
+                "truncated JPEG (no end-of-image marker)",
+            ),
+        )));
     }
     let mut limits = Limits::default();
     limits.max_alloc = Some(

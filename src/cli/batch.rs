@@ -1,14 +1,15 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
+use super::output::resolve_output;
 use super::{fidelity_problem, trace_warnings, FitArgs};
 use anyhow::{bail, Context};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use outlinefit::export::svg::{to_svg, SvgOptions};
-use outlinefit::io::write_atomic;
+use outlinefit::io::{remove_stale_temporaries, write_atomic};
 use outlinefit::{report, trace_file, Config, TraceResult};
 use rayon::prelude::*;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -25,12 +26,19 @@ pub(crate) struct BatchArgs {
     /// Output folder (created if missing); receives <name>.svg, <name>.json and summary.csv.
     #[arg(short = 'o', long = "output", value_name = "OUTDIR")]
     output: PathBuf,
-    /// Worker threads (default: all cores). Results do not depend on it.
-    #[arg(long, value_name = "N")]
-    jobs: Option<usize>,
-    /// Also trace images in sub-folders (their outputs mirror the folder structure).
+    /// Worker threads (default: all cores; at most 8 per core). Results do not depend on
+    /// it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    jobs: Option<u16>,
+    /// Also trace images in sub-folders (their outputs mirror the folder structure). Links
+    /// to folders are not followed unless --follow-symlinks is given; no folder is visited
+    /// twice.
     #[arg(long)]
     recursive: bool,
+    /// Follow symbolic links to folders with --recursive, and write through outputs that
+    /// are links (to their targets).
+    #[arg(long)]
+    follow_symlinks: bool,
     /// Skip images whose SVG already exists in OUTDIR.
     #[arg(long)]
     skip_existing: bool,
@@ -92,8 +100,18 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     if !args.input.is_dir() {
         bail!("{} is not a folder", args.input.display());
     }
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = match args.jobs {
+        Some(j) if usize::from(j) > MAX_JOBS_PER_CORE * cores => bail!(
+            "--jobs {j} is more than {MAX_JOBS_PER_CORE} per core ({cores} cores: at most {})",
+            MAX_JOBS_PER_CORE * cores
+        ),
+        Some(j) => usize::from(j),
+        None => 0,
+    };
     let mut files = Vec::new();
-    collect_images(&args.input, args.recursive, &mut files)
+    let mut visited = HashSet::new();
+    collect_images(&args.input, args, &mut visited, &mut files)
         .with_context(|| format!("cannot list {}", args.input.display()))?;
     files.sort();
     let mut jobs = assign_stems(&args.input, files);
@@ -107,8 +125,24 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     }
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("cannot create {}", args.output.display()))?;
+    // Debris of an earlier run that was killed mid-write.
+    let mut folders: Vec<PathBuf> = jobs
+        .iter()
+        .filter_map(|j| args.output.join(&j.stem).parent().map(Path::to_path_buf))
+        .collect();
+    folders.push(args.output.clone());
+    folders.sort();
+    folders.dedup();
+    let stale: usize = folders.iter().map(|d| remove_stale_temporaries(d)).sum();
+    if stale > 0 {
+        eprintln!("removed {stale} temporary files left by an interrupted run");
+    }
+    // Until the run finishes, summary.csv says that it has not: an interrupted run never
+    // leaves the summary of an earlier one behind.
+    let summary_path = resolve_output(&args.output.join("summary.csv"), args.follow_symlinks)?;
+    write_summary(&summary_path, &[], false)?;
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs.unwrap_or(0))
+        .num_threads(threads)
         .build()?;
     let bar = ProgressBar::new(jobs.len() as u64);
     bar.set_style(
@@ -121,7 +155,13 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
                 let row = process(job, args, &config);
                 bar.inc(1);
                 if row.status == "failed" {
-                    bar.suspend(|| eprintln!("error: {}: {}", row.file, row.message));
+                    // Decoding errors already name the file.
+                    let line = if row.message.starts_with(&row.file) {
+                        row.message.clone()
+                    } else {
+                        format!("{}: {}", row.file, row.message)
+                    };
+                    bar.suspend(|| eprintln!("error: {line}"));
                 }
                 for w in &row.warnings {
                     bar.suspend(|| eprintln!("warning: {w}"));
@@ -132,7 +172,7 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     });
     bar.finish_and_clear();
     let failed = rows.iter().filter(|r| r.status == "failed").count();
-    write_summary(&args.output.join("summary.csv"), &rows)?;
+    write_summary(&summary_path, &rows, true)?;
     let done = rows.iter().filter(|r| r.status == "ok").count();
     let skipped = rows.iter().filter(|r| r.status == "skipped").count();
     eprintln!(
@@ -142,12 +182,27 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     Ok(if failed > 0 { 1 } else { 0 })
 }
 
-fn collect_images(dir: &Path, recursive: bool, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+/// Largest --jobs per core: more threads only add memory (each holds a whole image).
+const MAX_JOBS_PER_CORE: usize = 8;
+
+/// The images of `dir` (and its sub-folders with --recursive): links to folders only with
+/// --follow-symlinks, and each folder once (by its canonical path), so a link loop ends.
+fn collect_images(
+    dir: &Path,
+    args: &BatchArgs,
+    visited: &mut HashSet<PathBuf>,
+    out: &mut Vec<PathBuf>,
+) -> std::io::Result<()> {
+    if !visited.insert(dir.canonicalize()?) {
+        return Ok(());
+    }
     for entry in std::fs::read_dir(dir)? {
-        let path = entry?.path();
+        let entry = entry?;
+        let path = entry.path();
+        let link = entry.file_type()?.is_symlink();
         if path.is_dir() {
-            if recursive {
-                collect_images(&path, recursive, out)?;
+            if args.recursive && (!link || args.follow_symlinks) {
+                collect_images(&path, args, visited, out)?;
             }
         } else if path
             .extension()
@@ -160,24 +215,35 @@ fn collect_images(dir: &Path, recursive: bool, out: &mut Vec<PathBuf>) -> std::i
     Ok(())
 }
 
-/// Output stems relative to OUTDIR: the input's relative path without extension, or with
-/// it (`a.png` → `a.png`) when two inputs of one folder share a stem.
+/// Output stems relative to OUTDIR, unique whatever the names (files sorted first, so
+/// the choice is deterministic): the input's relative path without its extension; for
+/// inputs that share it, the path with the extension (`a.png` → `a.png.svg`); where that
+/// still meets another stem (`a.png` beside `a.png.jpg`), `~2`, `~3`, … appended in
+/// sorted order. Stems are compared ignoring case, for case-insensitive file systems.
 fn assign_stems(root: &Path, files: Vec<PathBuf>) -> Vec<Job> {
     let rel = |p: &Path| p.strip_prefix(root).unwrap_or(p).to_path_buf();
-    let mut count: HashMap<PathBuf, usize> = HashMap::new();
+    let key = |p: &Path| p.to_string_lossy().to_lowercase();
+    let mut count: HashMap<String, usize> = HashMap::new();
     for f in &files {
-        *count.entry(rel(f).with_extension("")).or_default() += 1;
+        *count.entry(key(&rel(f).with_extension(""))).or_default() += 1;
     }
+    let mut taken: HashSet<String> = HashSet::new();
     files
         .into_iter()
         .map(|input| {
             let r = rel(&input);
             let plain = r.with_extension("");
-            let stem = if count.get(&plain).copied().unwrap_or(0) > 1 {
+            let mut stem = if count.get(&key(&plain)).copied().unwrap_or(0) > 1 {
                 r
             } else {
                 plain
             };
+            let base = stem.clone();
+            let mut k = 2;
+            while !taken.insert(key(&stem)) {
+                stem = with_suffix(&base, &format!("~{k}"));
+                k += 1;
+            }
             Job { input, stem }
         })
         .collect()
@@ -225,10 +291,12 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
         }
         if !args.svg_only {
             let json = report::to_json(config, &[(&row.file, &result)], false);
-            write_atomic(&with_suffix(&base, ".json"), json.as_bytes())?;
+            let target = resolve_output(&with_suffix(&base, ".json"), args.follow_symlinks)?;
+            write_atomic(&target, json.as_bytes())?;
         }
+        let target = resolve_output(&svg_path, args.follow_symlinks)?;
         write_atomic(
-            &svg_path,
+            &target,
             to_svg(&result, &SvgOptions::for_tolerance(config.tolerance)).as_bytes(),
         )?;
         Ok(result)
@@ -269,7 +337,9 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
     row
 }
 
-fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
+/// Writes summary.csv: one row per input, or, before the run has finished, a single row
+/// saying so (status `unfinished`).
+fn write_summary(path: &Path, rows: &[Row], finished: bool) -> anyhow::Result<()> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
         "file",
@@ -284,6 +354,21 @@ fn write_summary(path: &Path, rows: &[Row]) -> anyhow::Result<()> {
         "seconds",
         "error",
     ])?;
+    if !finished {
+        w.write_record([
+            "",
+            "unfinished",
+            "",
+            "",
+            "",
+            "",
+            "",
+            "",
+            "",
+            "",
+            "the run that writes this summary has not finished (or was interrupted)",
+        ])?;
+    }
     for r in rows {
         w.write_record([
             r.file.clone(),

@@ -48,7 +48,9 @@ pub(crate) fn identity(p: &Path) -> PathBuf {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let dir = parent.canonicalize().unwrap_or_else(|_| parent.to_path_buf());
+    let dir = parent
+        .canonicalize()
+        .unwrap_or_else(|_| parent.to_path_buf());
     match p.file_name() {
         Some(name) => dir.join(name),
         None => dir,
@@ -57,8 +59,15 @@ pub(crate) fn identity(p: &Path) -> PathBuf {
 
 /// Refuses a list of (option, path) outputs in which two name the same file or more than
 /// one is standard output (`-`), or one is the input.
-pub(crate) fn check_distinct(outputs: &[(&str, &Path)], input: Option<&Path>) -> anyhow::Result<()> {
-    let stdout: Vec<&str> = outputs.iter().filter(|(_, p)| is_dash(p)).map(|(o, _)| *o).collect();
+pub(crate) fn check_distinct(
+    outputs: &[(&str, &Path)],
+    input: Option<&Path>,
+) -> anyhow::Result<()> {
+    let stdout: Vec<&str> = outputs
+        .iter()
+        .filter(|(_, p)| is_dash(p))
+        .map(|(o, _)| *o)
+        .collect();
     if stdout.len() > 1 {
         bail!(
             "{} would all write to standard output (-); give all but one a file",
@@ -78,7 +87,10 @@ pub(crate) fn check_distinct(outputs: &[(&str, &Path)], input: Option<&Path>) ->
         }
         for (ob, _, ib) in &files[i + 1..] {
             if ia == ib {
-                bail!("{oa} and {ob} both name {}; each output needs its own file", pa.display());
+                bail!(
+                    "{oa} and {ob} both name {}; each output needs its own file",
+                    pa.display()
+                );
             }
         }
     }
@@ -99,14 +111,16 @@ pub(crate) fn write_stdout(bytes: &[u8]) -> anyhow::Result<()> {
             .try_clone_to_owned()
             .context("cannot write to standard output (it is closed)")?;
         let mut file = std::fs::File::from(fd);
-        file.write_all(bytes).context("cannot write to standard output")?;
+        file.write_all(bytes)
+            .context("cannot write to standard output")?;
         file.flush().context("cannot write to standard output")?;
         Ok(())
     }
     #[cfg(not(unix))]
     {
         let mut out = std::io::stdout().lock();
-        out.write_all(bytes).context("cannot write to standard output")?;
+        out.write_all(bytes)
+            .context("cannot write to standard output")?;
         out.flush().context("cannot write to standard output")?;
         Ok(())
     }
@@ -116,6 +130,7 @@ pub(crate) fn write_stdout(bytes: &[u8]) -> anyhow::Result<()> {
 /// that was closed at start-up: `/dev/null` opened for reading and writing (a shell's
 /// `> /dev/null` opens it write-only).
 #[cfg(unix)]
+#[allow(clippy::unnecessary_cast)] // st_rdev is u64 on Linux, i32 on macOS
 fn closed_at_start(fd: std::os::fd::BorrowedFd<'_>) -> bool {
     use nix::fcntl::{fcntl, FcntlArg, OFlag};
     use nix::sys::stat::{fstat, SFlag};

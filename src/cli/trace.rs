@@ -74,7 +74,10 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         ("--csv", args.csv.as_deref()),
         ("--overlay", args.overlay.as_deref()),
     ];
-    let named: Vec<(&str, &Path)> = named.iter().filter_map(|(o, p)| p.map(|p| (*o, p))).collect();
+    let named: Vec<(&str, &Path)> = named
+        .iter()
+        .filter_map(|(o, p)| p.map(|p| (*o, p)))
+        .collect();
     let mut resolved: Vec<PathBuf> = Vec::with_capacity(named.len());
     for (_, p) in &named {
         if is_dash(p) {
@@ -85,8 +88,11 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         ensure_output_dir_exists(target.parent().unwrap_or(Path::new("")))?;
         resolved.push(target);
     }
-    let targets: Vec<(&str, &Path)> =
-        named.iter().zip(&resolved).map(|((o, _), t)| (*o, t.as_path())).collect();
+    let targets: Vec<(&str, &Path)> = named
+        .iter()
+        .zip(&resolved)
+        .map(|((o, _), t)| (*o, t.as_path()))
+        .collect();
     check_distinct(&targets, Some(&args.input))?;
 
     let bitmap = if from_stdin {

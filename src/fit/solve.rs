@@ -861,7 +861,12 @@ fn bent_straight_segment(
         EndCondition::Tangent(t) => t * (b * t.dot(lambda)),
     };
     RationalCubic::new(
-        [c0, c1 + shift(basis[0], start), c2 + shift(basis[1], end), c3],
+        [
+            c0,
+            c1 + shift(basis[0], start),
+            c2 + shift(basis[1], end),
+            c3,
+        ],
         [1.0, 1.0],
     )
 }
@@ -1209,11 +1214,17 @@ mod tests {
         for (start, end) in [
             (EndCondition::Free, EndCondition::Free),
             (EndCondition::Free, EndCondition::Tangent(tangent)),
-            (EndCondition::Tangent(Point::new(0.0, -1.0)), EndCondition::Free),
+            (
+                EndCondition::Tangent(Point::new(0.0, -1.0)),
+                EndCondition::Free,
+            ),
         ] {
             let sol = fit_segment(&points, start, end, &FitSettings::polynomial());
             let c = sol.curve;
-            assert!(c.eval(sol.params[1]).distance(points[1]) < 1e-9, "{start:?} {end:?}");
+            assert!(
+                c.eval(sol.params[1]).distance(points[1]) < 1e-9,
+                "{start:?} {end:?}"
+            );
             assert_eq!((c.eval(0.0), c.eval(1.0)), (points[0], points[2]));
             if let EndCondition::Tangent(t) = end {
                 let arrival = (c.points[3] - c.points[2]).normalized().unwrap();

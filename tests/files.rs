@@ -1,0 +1,418 @@
+//! Files and inputs a user can trust, through the binary on files the tests create:
+//! outputs only replace regular files, never each other; batch names never collide;
+//! symlink loops end; truncated JPEGs, closed standard output and interrupted runs are
+//! reported, and leave no debris; standard input is read; EXIF orientation is applied.
+
+use image::{GrayImage, Luma};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_outlinefit"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("outlinefit-files-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A 60×40 image: a dark bar 30 px wide and 10 px tall at (10, 5) on white, so that its
+/// orientation is visible from the traced outline's bounding box.
+fn bar() -> GrayImage {
+    let mut img = GrayImage::from_pixel(60, 40, Luma([255]));
+    for y in 5..15 {
+        for x in 10..40 {
+            img.put_pixel(x, y, Luma([0]));
+        }
+    }
+    img
+}
+
+fn write_png(path: &Path) {
+    bar().save(path).unwrap();
+}
+
+fn run(cmd: &mut Command) -> (i32, String, String) {
+    let out = cmd.output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Bounding box (min x, min y, max x, max y) of the numbers of an SVG path.
+fn path_box(svg: &str) -> [f64; 4] {
+    let d = svg
+        .split(" d=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap();
+    let nums: Vec<f64> = d
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+    for p in nums.chunks(2).filter(|p| p.len() == 2) {
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
+    }
+    b
+}
+
+#[cfg(unix)]
+#[test]
+fn outputs_never_replace_devices_fifos_or_links() {
+    let dir = scratch("special");
+    let input = dir.join("in.png");
+    write_png(&input);
+    // A FIFO stays a FIFO (and the run does not hang on it).
+    let fifo = dir.join("fifo.svg");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let (code, _, err) = run(bin().arg("trace").arg(&input).arg("-o").arg(&fifo));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("FIFO"), "{err}");
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
+    // A device: /dev/null exists on every Unix; it must stay a character device.
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("--report")
+        .arg("/dev/null"));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("device"), "{err}");
+    assert!(std::fs::metadata("/dev/null")
+        .unwrap()
+        .file_type()
+        .is_char_device());
+    // A link is refused, and followed on request.
+    let target = dir.join("target.svg");
+    std::fs::write(&target, "old").unwrap();
+    let link = dir.join("link.svg");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let (code, _, err) = run(bin().arg("trace").arg(&input).arg("-o").arg(&link));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("symbolic link"), "{err}");
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(&link)
+        .arg("--follow-symlinks"));
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::read_to_string(&target)
+        .unwrap()
+        .starts_with("<svg"));
+    // A device path as input gets no output next to it.
+    let (code, _, err) = run(bin().arg("trace").arg("/dev/stdin").stdin(Stdio::null()));
+    assert_eq!(code, 1, "{err}");
+    assert!(!Path::new("/dev/stdin.svg").exists());
+}
+
+#[test]
+fn two_outputs_of_one_run_never_share_a_file() {
+    let dir = scratch("dupes");
+    let input = dir.join("in.png");
+    write_png(&input);
+    let x = dir.join("x.svg");
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(&x)
+        .arg("--report")
+        .arg(&x));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("both name"), "{err}");
+    assert!(!x.exists());
+    // The same file spelled differently.
+    let y = dir.join("sub/../r.json");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("--csv")
+        .arg(dir.join("r.json"))
+        .arg("--report")
+        .arg(&y));
+    assert_eq!(code, 1, "{err}");
+    // Two standard outputs.
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg("-")
+        .arg("--report")
+        .arg("-"));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("standard output"), "{err}");
+    assert!(!dir.join("-").exists());
+}
+
+#[test]
+fn standard_input_is_traced_to_standard_output() {
+    let dir = scratch("stdin");
+    let input = dir.join("in.png");
+    write_png(&input);
+    let out = bin()
+        .arg("trace")
+        .arg("-")
+        .stdin(std::fs::File::open(&input).unwrap())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = String::from_utf8(out.stdout).unwrap();
+    let b = path_box(&svg);
+    assert!(
+        (b[0] - 10.0).abs() < 0.5 && (b[2] - 40.0).abs() < 0.5,
+        "{b:?}"
+    );
+    assert!(!dir.join("-.svg").exists() && !dir.join("-").exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn a_closed_standard_output_is_an_error() {
+    let dir = scratch("closed");
+    let input = dir.join("in.png");
+    write_png(&input);
+    // The shell closes descriptor 1 before starting the program.
+    let status = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "\"{}\" trace \"{}\" -o - >&- 2>/dev/null",
+            env!("CARGO_BIN_EXE_outlinefit"),
+            input.display()
+        ))
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(1));
+}
+
+#[test]
+fn truncated_jpeg_is_refused() {
+    let dir = scratch("jpeg");
+    let whole = dir.join("whole.jpg");
+    image::DynamicImage::ImageLuma8(bar())
+        .to_rgb8()
+        .save(&whole)
+        .unwrap();
+    let bytes = std::fs::read(&whole).unwrap();
+    let cut = dir.join("cut.jpg");
+    std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&whole)
+        .arg("-o")
+        .arg(dir.join("w.svg")));
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&cut)
+        .arg("-o")
+        .arg(dir.join("c.svg")));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("truncated"), "{err}");
+    assert!(!dir.join("c.svg").exists());
+}
+
+/// A PNG with an eXIf chunk saying "rotate 90° clockwise" (orientation 6): the wide bar
+/// must come out tall.
+#[test]
+fn exif_orientation_is_applied() {
+    let dir = scratch("exif");
+    let plain = dir.join("plain.png");
+    write_png(&plain);
+    let png = std::fs::read(&plain).unwrap();
+    // Little-endian TIFF header, one IFD entry: tag 0x0112 (Orientation), SHORT, 1, 6.
+    let exif: Vec<u8> = vec![
+        b'I', b'I', 42, 0, 8, 0, 0, 0, 1, 0, 0x12, 0x01, 3, 0, 1, 0, 0, 0, 6, 0, 0, 0, 0, 0, 0, 0,
+    ];
+    let mut chunk = Vec::new();
+    chunk.extend_from_slice(&(exif.len() as u32).to_be_bytes());
+    let mut body = b"eXIf".to_vec();
+    body.extend_from_slice(&exif);
+    chunk.extend_from_slice(&body);
+    chunk.extend_from_slice(&crc32(&body).to_be_bytes());
+    // Insert after IHDR (8-byte signature + 25-byte IHDR chunk).
+    let mut rotated = png[..33].to_vec();
+    rotated.extend_from_slice(&chunk);
+    rotated.extend_from_slice(&png[33..]);
+    let path = dir.join("rotated.png");
+    std::fs::write(&path, rotated).unwrap();
+    let (code, svg, err) = run(bin().arg("trace").arg(&path).arg("-o").arg("-"));
+    assert_eq!(code, 0, "{err}");
+    let b = path_box(&svg);
+    assert!(
+        svg.contains("width=\"40\"") && svg.contains("height=\"60\""),
+        "{svg}"
+    );
+    let (w, h) = (b[2] - b[0], b[3] - b[1]);
+    assert!((w - 10.0).abs() < 0.5 && (h - 30.0).abs() < 0.5, "{b:?}");
+}
+
+fn crc32(data: &[u8]) -> u32 {
+    let mut c = 0xFFFF_FFFFu32;
+    for &byte in data {
+        c ^= u32::from(byte);
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xEDB8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
+#[test]
+fn batch_names_never_collide() {
+    let dir = scratch("collide");
+    let input = dir.join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    for name in ["a.png", "a.bmp", "a.png.bmp"] {
+        image::DynamicImage::ImageLuma8(bar())
+            .save(input.join(name))
+            .unwrap();
+    }
+    let out = dir.join("out");
+    let (code, _, err) = run(bin()
+        .arg("batch")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .arg("--svg-only"));
+    assert_eq!(code, 0, "{err}");
+    let mut svgs: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".svg"))
+        .collect();
+    svgs.sort();
+    assert_eq!(svgs, ["a.bmp.svg", "a.png.svg", "a.png~2.svg"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn recursion_ends_in_a_symlink_loop() {
+    let dir = scratch("loop");
+    let input = dir.join("in");
+    std::fs::create_dir_all(input.join("sub")).unwrap();
+    write_png(&input.join("a.png"));
+    std::os::unix::fs::symlink("..", input.join("sub/up")).unwrap();
+    for follow in [false, true] {
+        let out = dir.join(format!("out-{follow}"));
+        let mut cmd = bin();
+        cmd.arg("batch")
+            .arg(&input)
+            .arg("-o")
+            .arg(&out)
+            .arg("--recursive")
+            .arg("--svg-only");
+        if follow {
+            cmd.arg("--follow-symlinks");
+        }
+        let (code, _, err) = run(&mut cmd);
+        assert_eq!(code, 0, "{err}");
+        let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+        assert_eq!(summary.lines().count(), 2, "{summary}");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn an_interrupted_batch_leaves_no_debris_and_no_stale_summary() {
+    let dir = scratch("interrupt");
+    let input = dir.join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    // Enough work to interrupt: large noisy images.
+    let mut img = GrayImage::from_pixel(700, 700, Luma([255]));
+    for y in 0..700u32 {
+        for x in 0..700u32 {
+            if (x / 3 + y / 5) % 4 == 0 || (x * 7 + y * 13) % 17 == 0 {
+                img.put_pixel(x, y, Luma([0]));
+            }
+        }
+    }
+    for k in 0..6 {
+        img.save(input.join(format!("n{k}.png"))).unwrap();
+    }
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    // Debris of a killed run (a process that no longer exists) and an old summary.
+    let stale = out.join("n0.json.outlinefit-tmp-4000000-0");
+    std::fs::write(&stale, "partial").unwrap();
+    std::fs::write(out.join("summary.csv"), "file,status\nold.png,ok\n").unwrap();
+    for signal in ["INT", "KILL"] {
+        let mut child = bin()
+            .arg("batch")
+            .arg(&input)
+            .arg("-o")
+            .arg(&out)
+            .arg("--jobs")
+            .arg("2")
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(700));
+        Command::new("kill")
+            .arg(format!("-{signal}"))
+            .arg(child.id().to_string())
+            .status()
+            .unwrap();
+        let status = child.wait().unwrap();
+        assert!(!status.success());
+        let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+        assert!(!summary.contains("old.png"), "{summary}");
+        assert!(summary.contains("unfinished"), "{signal}: {summary}");
+        if signal == "INT" {
+            let debris: Vec<_> = std::fs::read_dir(&out)
+                .unwrap()
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .filter(|n| n.contains(".outlinefit-tmp-"))
+                .collect();
+            assert!(debris.is_empty(), "{debris:?}");
+        }
+    }
+    assert!(!stale.exists());
+    // The next run cleans up after SIGKILL and finishes with a complete summary.
+    let (code, _, err) = run(bin().arg("batch").arg(&input).arg("-o").arg(&out));
+    assert_eq!(code, 0, "{err}");
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        names.iter().all(|n| !n.contains(".outlinefit-tmp-")),
+        "{names:?}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 7, "{summary}");
+    assert!(!summary.contains("unfinished"));
+}
