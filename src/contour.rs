@@ -1009,14 +1009,7 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
     if edits.is_empty() {
         return;
     }
-    let mut remove = vec![false; n];
-    let mut insert_at = vec![None; n];
-    for &(first, count, x) in &edits {
-        for k in first..first + count {
-            remove[k.rem_euclid(nn) as usize] = true;
-        }
-        insert_at[first.rem_euclid(nn) as usize] = Some(x);
-    }
+    let (remove, insert_at) = mark_edits(&edits, n);
     let mut out = Vec::with_capacity(n);
     for j in 0..n {
         if let Some(x) = insert_at[j] {
@@ -1027,6 +1020,21 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         }
     }
     *points = out;
+}
+
+/// For edits (first replaced unrolled index, count, new point) of a closed outline of `n`
+/// points: which points are removed, and the new point inserted before each index.
+fn mark_edits(edits: &[(i64, i64, Point)], n: usize) -> (Vec<bool>, Vec<Option<Point>>) {
+    let nn = n as i64;
+    let mut remove = vec![false; n];
+    let mut insert_at = vec![None; n];
+    for &(first, count, x) in edits {
+        for k in first..first + count {
+            remove[k.rem_euclid(nn) as usize] = true;
+        }
+        insert_at[first.rem_euclid(nn) as usize] = Some(x);
+    }
+    (remove, insert_at)
 }
 
 /// How far (px) a bilevel image may have cut a spike of half-opening α (radians) short:
@@ -1911,14 +1919,7 @@ impl Workspace {
         if edits.is_empty() {
             return;
         }
-        let mut remove = vec![false; n];
-        let mut insert_at = vec![None; n];
-        for &(first, count, x) in &edits {
-            for k in first..first + count {
-                remove[k.rem_euclid(nn) as usize] = true;
-            }
-            insert_at[first.rem_euclid(nn) as usize] = Some(x);
-        }
+        let (remove, insert_at) = mark_edits(&edits, n);
         self.scratch.clear();
         self.scratch_tangents.clear();
         let mut anchors = Vec::with_capacity(n);
