@@ -39,6 +39,17 @@ pub const TEMP_MARK: &str = ".outlinefit-tmp-";
 /// no file name or is not a regular file, or any step fails; the temporary file is removed
 /// in every failure case.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_with(path, |w| w.write_all(bytes))
+}
+
+/// [`write_atomic`] for content produced piece by piece: `fill` writes into a buffered
+/// temporary file, so a large document (a report of many contours) never needs to be held
+/// in memory whole. Same rules and errors; an error from `fill` removes the temporary and
+/// leaves `path` as it was.
+pub fn write_atomic_with<F>(path: &Path, fill: F) -> Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> io::Result<()>,
+{
     let fail = |source: io::Error| Error::Write {
         path: path.to_path_buf(),
         source,
@@ -63,7 +74,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     ));
     let temp = dir.join(temp_name);
     track(&temp, true);
-    let result = write_new(&temp, bytes).and_then(|()| {
+    let result = write_new(&temp, fill).and_then(|()| {
         if let Ok(meta) = fs::metadata(path) {
             // Best effort: a replaced file keeps its permissions.
             let _ = fs::set_permissions(&temp, meta.permissions());
@@ -206,11 +217,15 @@ fn parent_dir(path: &Path) -> &Path {
     }
 }
 
-/// Creates `temp` (which must not exist yet) and writes `bytes` into it.
-fn write_new(temp: &Path, bytes: &[u8]) -> io::Result<()> {
-    let mut file = OpenOptions::new().write(true).create_new(true).open(temp)?;
-    file.write_all(bytes)?;
-    file.flush()
+/// Creates `temp` (which must not exist yet) and lets `fill` write into it, buffered.
+fn write_new<F>(temp: &Path, fill: F) -> io::Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> io::Result<()>,
+{
+    let file = OpenOptions::new().write(true).create_new(true).open(temp)?;
+    let mut out = io::BufWriter::with_capacity(1 << 16, file);
+    fill(&mut out)?;
+    out.flush()
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@
 use crate::fit::{FittedContour, JointKind};
 use crate::geom::Point;
 use crate::merge::outline::MergedCurve;
-use crate::{Config, Search, TraceResult, VERSION};
+use crate::{Config, TraceResult, VERSION};
 use serde::Serialize;
 
 /// Totals over one traced image.
@@ -87,9 +87,6 @@ impl Summary {
 #[derive(Serialize)]
 struct SegmentRow<'a> {
     index: usize,
-    optimizer: &'a str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    search: Option<Search>,
     point_count: usize,
     start: usize,
     end: usize,
@@ -139,7 +136,7 @@ struct ImageRow<'a> {
     summary: Summary,
     fidelity: &'a crate::Fidelity,
     seconds: f64,
-    contours: Vec<ContourRow<'a>>,
+    contours: ContourRows<'a>,
 }
 
 #[derive(Serialize)]
@@ -153,13 +150,7 @@ fn xy(p: Point) -> [f64; 2] {
     [p.x, p.y]
 }
 
-fn contour_row<'a>(
-    index: usize,
-    c: &'a FittedContour,
-    config: &'a Config,
-    with_params: bool,
-) -> ContourRow<'a> {
-    let search = (config.optimizer != "lsq").then_some(config.search);
+fn contour_row<'a>(index: usize, c: &'a FittedContour, with_params: bool) -> ContourRow<'a> {
     ContourRow {
         index,
         is_hole: c.is_hole,
@@ -178,8 +169,6 @@ fn contour_row<'a>(
                     });
                 SegmentRow {
                     index: k,
-                    optimizer: &config.optimizer,
-                    search,
                     point_count: s.point_count,
                     start: s.start,
                     end: s.end,
@@ -214,9 +203,26 @@ fn contour_row<'a>(
     }
 }
 
-/// The JSON report of one or more traced images, pretty-printed, ending in a newline.
-/// `with_params` includes every data point's parameter (large).
+/// The JSON report of one or more traced images (see [`write_json`]) as a string.
 pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bool) -> String {
+    let mut bytes = Vec::new();
+    // Writing into memory cannot fail.
+    let _ = write_json(&mut bytes, config, images, with_params);
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
+/// Writes the JSON report of one or more traced images to `out`, ending in a newline.
+/// `with_params` includes every data point's parameter (large).
+///
+/// The layout is indented down to the contours; each segment, joint and merged curve is
+/// one line. The document is serialised as it is written, so its size in memory does not
+/// grow with the number of contours. Non-finite numbers become `null`.
+pub fn write_json(
+    out: &mut dyn std::io::Write,
+    config: &Config,
+    images: &[(&str, &TraceResult)],
+    with_params: bool,
+) -> std::io::Result<()> {
     let doc = Document {
         outlinefit_version: VERSION,
         config,
@@ -228,21 +234,116 @@ pub fn to_json(config: &Config, images: &[(&str, &TraceResult)], with_params: bo
                 summary: Summary::of(r),
                 fidelity: &r.fidelity,
                 seconds: r.seconds,
-                contours: r
-                    .contours
-                    .iter()
-                    .enumerate()
-                    .map(|(i, c)| contour_row(i, c, config, with_params))
-                    .collect(),
+                contours: ContourRows {
+                    result: r,
+                    with_params,
+                },
             })
             .collect(),
     };
-    // Serialising plain data with finite or infinite floats cannot fail; non-finite numbers
-    // become null.
-    let mut s =
-        serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
-    s.push('\n');
-    s
+    let mut ser = serde_json::Serializer::with_formatter(&mut *out, RowFormatter::new(ROW_DEPTH));
+    doc.serialize(&mut ser).map_err(std::io::Error::from)?;
+    out.write_all(b"\n")
+}
+
+/// Nesting depth of a segment, joint or merged-curve object in the report (document 1,
+/// `images` 2, image 3, `contours` 4, contour 5, its arrays 6, their items 7).
+const ROW_DEPTH: usize = 7;
+
+/// The contours of one image, turned into rows while they are serialised (not collected).
+struct ContourRows<'a> {
+    result: &'a TraceResult,
+    with_params: bool,
+}
+
+impl Serialize for ContourRows<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(
+            self.result
+                .contours
+                .iter()
+                .enumerate()
+                .map(|(i, c)| contour_row(i, c, self.with_params)),
+        )
+    }
+}
+
+/// Pretty-prints JSON down to nesting depth `flat_from`; containers that deep or deeper are
+/// written compactly, each on one line.
+struct RowFormatter {
+    pretty: serde_json::ser::PrettyFormatter<'static>,
+    depth: usize,
+    flat_from: usize,
+}
+
+impl RowFormatter {
+    fn new(flat_from: usize) -> RowFormatter {
+        RowFormatter {
+            pretty: serde_json::ser::PrettyFormatter::new(),
+            depth: 0,
+            flat_from,
+        }
+    }
+
+    fn flat(&self) -> bool {
+        self.depth >= self.flat_from
+    }
+}
+
+/// Forwards a formatter call to the compact formatter inside one-line containers and to
+/// the pretty one above them.
+macro_rules! by_depth {
+    ($self:ident, $method:ident ( $($arg:expr),* )) => {
+        if $self.flat() {
+            serde_json::ser::CompactFormatter.$method($($arg),*)
+        } else {
+            $self.pretty.$method($($arg),*)
+        }
+    };
+}
+
+impl serde_json::ser::Formatter for RowFormatter {
+    fn begin_array<W: ?Sized + std::io::Write>(&mut self, w: &mut W) -> std::io::Result<()> {
+        self.depth += 1;
+        by_depth!(self, begin_array(w))
+    }
+    fn end_array<W: ?Sized + std::io::Write>(&mut self, w: &mut W) -> std::io::Result<()> {
+        let r = by_depth!(self, end_array(w));
+        self.depth -= 1;
+        r
+    }
+    fn begin_array_value<W: ?Sized + std::io::Write>(
+        &mut self,
+        w: &mut W,
+        first: bool,
+    ) -> std::io::Result<()> {
+        by_depth!(self, begin_array_value(w, first))
+    }
+    fn end_array_value<W: ?Sized + std::io::Write>(&mut self, w: &mut W) -> std::io::Result<()> {
+        by_depth!(self, end_array_value(w))
+    }
+    fn begin_object<W: ?Sized + std::io::Write>(&mut self, w: &mut W) -> std::io::Result<()> {
+        self.depth += 1;
+        by_depth!(self, begin_object(w))
+    }
+    fn end_object<W: ?Sized + std::io::Write>(&mut self, w: &mut W) -> std::io::Result<()> {
+        let r = by_depth!(self, end_object(w));
+        self.depth -= 1;
+        r
+    }
+    fn begin_object_key<W: ?Sized + std::io::Write>(
+        &mut self,
+        w: &mut W,
+        first: bool,
+    ) -> std::io::Result<()> {
+        by_depth!(self, begin_object_key(w, first))
+    }
+    fn begin_object_value<W: ?Sized + std::io::Write>(&mut self, w: &mut W) -> std::io::Result<()> {
+        by_depth!(self, begin_object_value(w))
+    }
+    fn end_object_value<W: ?Sized + std::io::Write>(&mut self, w: &mut W) -> std::io::Result<()> {
+        by_depth!(self, end_object_value(w))
+    }
 }
 
 /// The CSV report: a header and one row per segment.

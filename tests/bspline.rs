@@ -1,7 +1,10 @@
 //! `outlinefit bspline` as a user meets it: the documented JSON on stdout, the paper's
 //! Example 1 below its reported error, clean one-line failures, a parseable SVG picture.
 
-use std::path::PathBuf;
+mod common;
+
+use common::scratch;
+
 use std::process::{Command, Output};
 
 const EX1_X: &str = "-26*u^4+64*u^3-52*u^2+16*u-1";
@@ -13,15 +16,6 @@ fn bspline(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
-}
-
-/// A fresh, empty scratch folder for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("outlinefit-bspline-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 fn json(out: &Output) -> serde_json::Value {

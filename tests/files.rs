@@ -3,20 +3,13 @@
 //! symlink loops end; truncated JPEGs, closed standard output and interrupted runs are
 //! reported, and leave no debris; standard input is read; EXIF orientation is applied.
 
+mod common;
+
+use common::{bin, scratch};
+
 use image::{GrayImage, Luma};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_outlinefit"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("outlinefit-files-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// A 60×40 image: a dark bar 30 px wide and 10 px tall at (10, 5) on white, so that its
 /// orientation is visible from the traced outline's bounding box.
@@ -415,4 +408,54 @@ fn an_interrupted_batch_leaves_no_debris_and_no_stale_summary() {
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     assert_eq!(summary.lines().count(), 7, "{summary}");
     assert!(!summary.contains("unfinished"));
+}
+
+/// A `width`×`height` image of 2×2 specks, one every 4 px: one contour of four segments
+/// per speck.
+fn specks(width: u32, height: u32) -> GrayImage {
+    GrayImage::from_fn(width, height, |x, y| {
+        let on = (1..width - 2).contains(&x) && (1..height - 2).contains(&y);
+        Luma([if on && (x - 1) % 4 < 2 && (y - 1) % 4 < 2 {
+            0
+        } else {
+            255
+        }])
+    })
+}
+
+#[test]
+fn report_grows_linearly_and_modestly_with_the_contour_count() {
+    let dir = scratch("specks");
+    let mut sizes = Vec::new();
+    for (w, h) in [(200u32, 100u32), (200, 200)] {
+        let input = dir.join(format!("s{w}x{h}.png"));
+        specks(w, h).save(&input).unwrap();
+        let report = dir.join(format!("s{w}x{h}.json"));
+        let (code, _, err) = run(bin()
+            .arg("trace")
+            .arg(&input)
+            .arg("-o")
+            .arg(dir.join(format!("s{w}x{h}.svg")))
+            .arg("--report")
+            .arg(&report));
+        assert_eq!(code, 0, "{err}");
+        let text = std::fs::read_to_string(&report).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let segments = json["images"][0]["summary"]["segments"].as_u64().unwrap();
+        let contours = json["images"][0]["contours"].as_array().unwrap().len();
+        assert_eq!(contours as u32, (w / 4) * (h / 4) - (w / 4 + h / 4) + 1);
+        // Each segment is one line, not one line per number.
+        let rows = text
+            .lines()
+            .filter(|l| l.contains("\"control_points\""))
+            .count();
+        assert_eq!(rows as u64, segments);
+        let per_segment = text.len() as f64 / segments as f64;
+        assert!(per_segment < 700.0, "{per_segment} bytes per segment");
+        sizes.push((text.len() as f64, segments as f64));
+    }
+    // Twice the segments, at most twice the bytes (plus the fixed header).
+    let (small, large) = (sizes[0], sizes[1]);
+    assert!(large.1 > 1.9 * small.1);
+    assert!(large.0 / small.0 <= large.1 / small.1 * 1.01, "{sizes:?}");
 }

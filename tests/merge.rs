@@ -1,19 +1,11 @@
 //! `outlinefit merge` as a user meets it: the paper's Example 1 and 3 inputs, the JSON it
 //! prints, the picture, and clean failures.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_outlinefit"))
-}
+use common::{bin, scratch};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("outlinefit-merge-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::process::Output;
 
 const EXAMPLE1: &str = r#"{"curves": [
   {"centers": [[0.3, 0.3], [0.8, 1.6], [1.6, 1.8], [2.5, 1.7]], "radii": [0.13, 0.15, 0.19, 0.17]},

@@ -2,20 +2,12 @@
 //! error, one `error:` line and exit status 1 (and nothing on stdout) for bad input, a
 //! parseable SVG picture, the same output for the same seed.
 
+mod common;
+
+use common::{bin, scratch};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_outlinefit"))
-}
-
-/// A fresh, empty scratch folder for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("outlinefit-reduce-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::process::Output;
 
 /// The paper's Example 1 (degree 6, plain Bézier) as a curve file.
 const EXAMPLE1: &str = r#"{"control_points": [[0.1, 0], [0, 0.1], [0.05, 0.2], [0.3, 0.3],

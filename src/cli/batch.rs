@@ -6,7 +6,7 @@ use anyhow::{bail, Context};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use outlinefit::export::svg::{to_svg, SvgOptions};
-use outlinefit::io::{remove_stale_temporaries, write_atomic};
+use outlinefit::io::{remove_stale_temporaries, write_atomic, write_atomic_with};
 use outlinefit::{report, trace_file, Config, TraceResult};
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
@@ -290,9 +290,10 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
             }
         }
         if !args.svg_only {
-            let json = report::to_json(config, &[(&row.file, &result)], false);
             let target = resolve_output(&with_suffix(&base, ".json"), args.follow_symlinks)?;
-            write_atomic(&target, json.as_bytes())?;
+            write_atomic_with(&target, |w| {
+                report::write_json(w, config, &[(&row.file, &result)], false)
+            })?;
         }
         let target = resolve_output(&svg_path, args.follow_symlinks)?;
         write_atomic(

@@ -2,7 +2,7 @@
 //! two outputs of one run onto the same file.
 
 use anyhow::{bail, Context};
-use outlinefit::io::{check_replaceable, file_kind};
+use outlinefit::io::{check_replaceable, file_kind, write_atomic_with};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -97,9 +97,24 @@ pub(crate) fn check_distinct(
     Ok(())
 }
 
-/// Writes `bytes` to standard output, failing when it is closed or the write fails (the
+/// Writes an output: to standard output for `-`, otherwise atomically to the file.
+pub(crate) fn write_output<F>(target: &Path, fill: F) -> anyhow::Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
+{
+    if is_dash(target) {
+        write_stdout(fill)
+    } else {
+        Ok(write_atomic_with(target, fill)?)
+    }
+}
+
+/// Lets `fill` write to standard output, failing when it is closed or the write fails (the
 /// standard library's stdout quietly accepts writes to a closed descriptor).
-pub(crate) fn write_stdout(bytes: &[u8]) -> anyhow::Result<()> {
+fn write_stdout<F>(fill: F) -> anyhow::Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
+{
     #[cfg(unix)]
     {
         use std::os::fd::AsFd;
@@ -110,17 +125,15 @@ pub(crate) fn write_stdout(bytes: &[u8]) -> anyhow::Result<()> {
             .as_fd()
             .try_clone_to_owned()
             .context("cannot write to standard output (it is closed)")?;
-        let mut file = std::fs::File::from(fd);
-        file.write_all(bytes)
-            .context("cannot write to standard output")?;
-        file.flush().context("cannot write to standard output")?;
+        let mut out = std::io::BufWriter::new(std::fs::File::from(fd));
+        fill(&mut out).context("cannot write to standard output")?;
+        out.flush().context("cannot write to standard output")?;
         Ok(())
     }
     #[cfg(not(unix))]
     {
-        let mut out = std::io::stdout().lock();
-        out.write_all(bytes)
-            .context("cannot write to standard output")?;
+        let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+        fill(&mut out).context("cannot write to standard output")?;
         out.flush().context("cannot write to standard output")?;
         Ok(())
     }

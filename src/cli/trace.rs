@@ -1,12 +1,12 @@
 //! `outlinefit trace`: one image in, an SVG and optional reports out.
 
-use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_stdout};
+use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_output};
 use super::{default_svg_path, fidelity_problem, trace_warnings, FitArgs};
 use anyhow::{bail, Context};
 use clap::Args;
 use outlinefit::export::overlay::{to_overlay_svg, OverlayOptions};
 use outlinefit::export::svg::{to_svg, SvgOptions};
-use outlinefit::io::{ensure_output_dir_exists, write_atomic};
+use outlinefit::io::ensure_output_dir_exists;
 use outlinefit::{raster, report, trace_bitmap};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -119,23 +119,19 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     for w in trace_warnings(&name, &config, &result) {
         eprintln!("warning: {w}");
     }
-    let write = |target: &Path, bytes: &[u8]| -> anyhow::Result<()> {
-        if is_dash(target) {
-            write_stdout(bytes)
-        } else {
-            Ok(write_atomic(target, bytes)?)
-        }
-    };
     // Reports first, the SVG last: a finished SVG means everything else is there too.
     for ((option, _), target) in named.iter().zip(&resolved).skip(1) {
-        let bytes = match *option {
-            "--report" => report::to_json(&config, &[(&name, &result)], args.params),
-            "--csv" => report::to_csv(&config, &[(&name, &result)]),
-            _ => to_overlay_svg(&result, Some(&bitmap.preview()), &OverlayOptions::default()),
-        };
-        write(target, bytes.as_bytes())?;
+        let names = [(name.as_str(), &result)];
+        write_output(target, |w| match *option {
+            "--report" => report::write_json(w, &config, &names, args.params),
+            "--csv" => w.write_all(report::to_csv(&config, &names).as_bytes()),
+            _ => w.write_all(
+                to_overlay_svg(&result, Some(&bitmap.preview()), &OverlayOptions::default())
+                    .as_bytes(),
+            ),
+        })?;
     }
     let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
-    write(&resolved[0], svg.as_bytes())?;
+    write_output(&resolved[0], |w| w.write_all(svg.as_bytes()))?;
     Ok(0)
 }

@@ -17,9 +17,28 @@
 #![allow(dead_code, unreachable_pub)]
 
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use resvg::tiny_skia::{Pixmap, Transform};
 use resvg::usvg;
+
+/// The `outlinefit` binary built for these tests.
+pub fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_outlinefit"))
+}
+
+/// A fresh, empty scratch folder for one test, named after the test file, the process and
+/// `name`.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "outlinefit-{}-{}-{name}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
 
 /// Renders `svg` at 1× (user units = pixels) onto a transparent
 /// `width`×`height` pixmap and returns per-pixel coverage in `[0, 1]` from
