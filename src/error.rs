@@ -45,12 +45,19 @@ pub enum Error {
         /// The configured limit.
         limit: u64,
     },
-    /// Nothing was found to trace: every pixel is background, or every shape is smaller than
-    /// the speck size.
-    #[error("no shape found: nothing is foreground at {threshold} or larger than the minimum area (try --invert, --threshold or --min-area)")]
+    /// Nothing was found to trace: every pixel is background.
+    #[error("no shape found: every pixel is background ({threshold}); if the shapes are light on a dark background try --invert, otherwise --threshold")]
     NoForeground {
         /// The threshold that was used, as a user reads it (e.g. "luminance below 136.0").
         threshold: String,
+    },
+    /// Every shape of the image is smaller than the speck size, so none was traced.
+    #[error("no shape found: all {shapes} shapes are smaller than the minimum area of {min_area} px² (lower --min-area to keep them)")]
+    AllBelowMinArea {
+        /// Number of foreground shapes (8-connected components at the threshold).
+        shapes: usize,
+        /// The minimum area that removed them, px².
+        min_area: f64,
     },
     /// An output could not be written.
     #[error("cannot write {}: {source}", path.display())]

@@ -271,6 +271,23 @@ pub fn trace_file(path: &Path, config: &Config) -> Result<TraceResult> {
     trace_bitmap(&bitmap, config)
 }
 
+/// Why an image gave no contour: no foreground at all, or only shapes below `min_area`.
+fn nothing_traced(bitmap: &Bitmap, min_area: f64) -> Error {
+    let mask = bitmap.mask();
+    if mask.pixels().all(|p| p[0] == 0) {
+        return Error::NoForeground {
+            threshold: bitmap.threshold_scale().describe(bitmap.threshold_value()),
+        };
+    }
+    let labels = imageproc::region_labelling::connected_components(
+        &mask,
+        imageproc::region_labelling::Connectivity::Eight,
+        image::Luma([0u8]),
+    );
+    let shapes = labels.pixels().map(|p| p[0]).max().unwrap_or(0) as usize;
+    Error::AllBelowMinArea { shapes, min_area }
+}
+
 /// Traces an already loaded bitmap.
 ///
 /// With `config.check` (the default) the drawn outline is checked against the thresholded
@@ -286,9 +303,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         },
     )?;
     if extraction.contours.is_empty() {
-        return Err(Error::NoForeground {
-            threshold: bitmap.threshold_scale().describe(bitmap.threshold_value()),
-        });
+        return Err(nothing_traced(bitmap, config.min_area));
     }
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
     let lsq_options = fit::lsq::LsqOptions::new(config);

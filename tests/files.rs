@@ -459,3 +459,60 @@ fn report_grows_linearly_and_modestly_with_the_contour_count() {
     assert!(large.1 > 1.9 * small.1);
     assert!(large.0 / small.0 <= large.1 / small.1 * 1.01, "{sizes:?}");
 }
+
+#[test]
+fn messages_say_what_happened() {
+    let dir = scratch("messages");
+    let dots = dir.join("dots.png");
+    let mut img = GrayImage::from_pixel(50, 50, Luma([255]));
+    img.put_pixel(10, 10, Luma([0]));
+    img.put_pixel(30, 30, Luma([0]));
+    img.save(&dots).unwrap();
+    let blank = dir.join("blank.png");
+    GrayImage::from_pixel(50, 50, Luma([255]))
+        .save(&blank)
+        .unwrap();
+    let out = dir.join("out.svg");
+    let trace = |input: &Path, extra: &[&str]| {
+        run(bin()
+            .arg("trace")
+            .arg(input)
+            .arg("-o")
+            .arg(&out)
+            .args(extra))
+    };
+    let (code, _, err) = trace(&dots, &[]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("all 2 shapes are smaller than the minimum area of 2 px²"),
+        "{err}"
+    );
+    let (code, _, err) = trace(&dots, &["--min-area", "0.5"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::remove_file(&out).unwrap();
+    let (code, _, err) = trace(&blank, &[]);
+    assert_eq!(code, 1);
+    assert!(err.contains("every pixel is background"), "{err}");
+    // Negative values reach the range checks instead of being taken for options.
+    for (args, status, expect) in [
+        (["--tolerance", "-1"], 1, "--tolerance"),
+        (["--min-area", "-2"], 1, "--min-area"),
+        (["--budget", "-5"], 2, "must be 0 or more"),
+        (["--threshold", "300"], 2, "must be at most 255"),
+        (["--seed", "1.5"], 2, "must be a whole number"),
+    ] {
+        let (code, _, err) = trace(&dots, &args);
+        assert_eq!(code, status, "{args:?}: {err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert!(!err.contains("unexpected argument"), "{err}");
+    }
+    assert!(!out.exists());
+    for command in ["trace", "batch"] {
+        let (code, help, _) = run(bin().arg(command).arg("--help"));
+        assert_eq!(code, 0);
+        assert!(
+            help.contains("Exit status:") && help.contains("130"),
+            "{help}"
+        );
+    }
+}

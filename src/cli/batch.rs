@@ -28,7 +28,7 @@ pub(crate) struct BatchArgs {
     output: PathBuf,
     /// Worker threads (default: all cores; at most 8 per core). Results do not depend on
     /// it.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..), allow_negative_numbers = true)]
     jobs: Option<u16>,
     /// Also trace images in sub-folders (their outputs mirror the folder structure). Links
     /// to folders are not followed unless --follow-symlinks is given; no folder is visited

@@ -1,6 +1,7 @@
 //! `outlinefit bspline`: a parametric curve given by two expressions in u, converted into a
 //! B-spline by the hybrid fireworks algorithm; JSON on stdout, optional SVG picture.
 
+use super::whole;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use outlinefit::bspline::{convert, svg, ConvertOptions, FitTarget, ParametricCurve};
@@ -24,13 +25,13 @@ pub(crate) struct BsplineArgs {
     range: String,
     /// Number of samples: the two ends, every feature point, and auxiliary samples placed
     /// by --method.
-    #[arg(long, default_value_t = 20, value_name = "N")]
+    #[arg(long, default_value_t = 20, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     samples: usize,
     /// Number of control points of the B-spline (at least --order, at most --samples).
-    #[arg(long, default_value_t = 6, value_name = "N")]
+    #[arg(long, default_value_t = 6, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     control_points: usize,
     /// Order of the B-spline (degree + 1; 4 is cubic).
-    #[arg(long, default_value_t = 4, value_name = "K")]
+    #[arg(long, default_value_t = 4, value_name = "K", allow_negative_numbers = true, value_parser = whole::<usize>)]
     order: usize,
     /// How the auxiliary samples are placed: fwa (fireworks, the paper's), any other
     /// optimizer (hs, ga, pso, gwo, cs, ics, so, beeso, de), or uniform (evenly spaced,
@@ -44,13 +45,13 @@ pub(crate) struct BsplineArgs {
     #[arg(long, value_enum, default_value_t = FitArg::Curve, value_name = "TARGET")]
     fit: FitArg,
     /// Objective evaluations for the optimizer.
-    #[arg(long, default_value_t = 3000, value_name = "N")]
+    #[arg(long, default_value_t = 3000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of the optimizer; the same seed gives the same output.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Grid intervals of the curvature scan that finds the feature points.
-    #[arg(long, default_value_t = 1000, value_name = "N")]
+    #[arg(long, default_value_t = 1000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     grid: usize,
     /// Also write a picture: the curve, the samples (feature points marked), the spline
     /// and its control polygon.

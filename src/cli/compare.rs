@@ -1,5 +1,6 @@
 //! `outlinefit compare`: optimizers side by side on the same segmentation, with statistics.
 
+use super::whole;
 use super::{SearchArg, ShapeArgs};
 use anyhow::{bail, Context};
 use clap::builder::PossibleValuesParser;
@@ -24,27 +25,32 @@ pub(crate) struct CompareArgs {
     #[arg(long, value_delimiter = ',', value_name = "NAMES", value_parser = optimizer_list())]
     optimizers: Vec<String>,
     /// Independent runs per optimizer (the HS paper used 30).
-    #[arg(long, default_value_t = 30, value_name = "N")]
+    #[arg(long, default_value_t = 30, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     runs: usize,
     /// Objective evaluations per segment and run, the same for every optimizer.
-    #[arg(long, default_value_t = 5000, value_name = "N")]
+    #[arg(long, default_value_t = 5000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Search space: `weights` (w1, w2 with control points by least squares) or `full`
     /// (the HS paper's C1, C2, w1, w2, as in its experiments).
     #[arg(long, value_enum, default_value_t = SearchArg::Weights)]
     search: SearchArg,
     /// Widen the `full` search's control-point box by this factor (1 = the paper's Eq. 9).
-    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        value_name = "S",
+        allow_negative_numbers = true
+    )]
     search_box_scale: f64,
     /// Base seed; run r of every optimizer uses the same seed derived from it, so the same
     /// seed gives the same numbers on any number of threads.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Points kept per convergence curve (evenly spaced evaluation counts).
-    #[arg(long, default_value_t = 200, value_name = "N")]
+    #[arg(long, default_value_t = 200, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     history_points: usize,
     /// Worker threads (default: all cores). Results do not depend on it.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     jobs: Option<usize>,
     #[command(flatten)]
     shape: ShapeArgs,

@@ -1,5 +1,6 @@
 //! `outlinefit merge`: two adjacent disk Wang–Ball curves into one.
 
+use super::whole;
 use anyhow::Context;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
@@ -18,7 +19,7 @@ pub(crate) struct MergeArgs {
     #[arg(value_name = "INPUT.json")]
     input: PathBuf,
     /// Degree n of the merged curve, at least the higher input degree, at most 20.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     degree: usize,
     /// Keep the outer end disks of the inputs as the merged curve's end disks (Eq. 11–12).
     #[arg(long)]
@@ -29,16 +30,21 @@ pub(crate) struct MergeArgs {
     #[arg(long, default_value = "exact", value_name = "NAME", value_parser = method_names())]
     method: String,
     /// Lower bound of every computed radius (the paper's results stop at 0.001).
-    #[arg(long, default_value_t = outlinefit::merge::DEFAULT_MIN_RADIUS, value_name = "R")]
+    #[arg(long, default_value_t = outlinefit::merge::DEFAULT_MIN_RADIUS, value_name = "R", allow_negative_numbers = true)]
     min_radius: f64,
     /// Objective evaluations of a metaheuristic (the paper: population 50 × 500 iterations).
-    #[arg(long, default_value_t = outlinefit::merge::DEFAULT_BUDGET, value_name = "N")]
+    #[arg(long, default_value_t = outlinefit::merge::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of a metaheuristic's random choices.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Metaheuristics search centers within this many times the input's extent around it.
-    #[arg(long, default_value_t = 3.0, value_name = "S")]
+    #[arg(
+        long,
+        default_value_t = 3.0,
+        value_name = "S",
+        allow_negative_numbers = true
+    )]
     box_scale: f64,
     /// Also draw both input curves and the merged one (center lines, disk envelopes,
     /// control disks) into this SVG file.

@@ -16,32 +16,48 @@ use std::path::PathBuf;
 /// Trace bitmap outlines into G1-continuous rational cubic Bézier curves, with a
 /// per-segment error report.
 #[derive(Parser, Debug)]
-#[command(name = "outlinefit", version, about, long_about = None)]
+#[command(name = "outlinefit", version, about, long_about = None, after_help = EXIT_STATUS)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
+/// The exit statuses, shown under every command's `--help` (the README has the same table).
+const EXIT_STATUS: &str = "\
+Exit status:
+  0    everything done
+  1    an input, an output or an option's value was refused (batch: at least one
+       file failed; the others are still done)
+  2    the command line does not parse: unknown option, missing or malformed value
+       (a negative or fractional count included)
+  130  interrupted (SIGINT, SIGTERM); outputs not yet written are missing";
+
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Trace one image into an SVG outline (and optional JSON/CSV reports and overlay).
+    #[command(after_help = EXIT_STATUS)]
     Trace(trace::TraceArgs),
     /// Trace every image of a folder in parallel into OUTDIR/<name>.svg and <name>.json,
     /// with OUTDIR/summary.csv.
+    #[command(after_help = EXIT_STATUS)]
     Batch(batch::BatchArgs),
     /// Compare optimizers on the same segmentation of one or more images: many seeded runs
     /// each, descriptive statistics, normality, F-, t-tests and ANOVA, charts.
+    #[command(after_help = EXIT_STATUS)]
     Compare(compare::CompareArgs),
     /// Convert a parametric curve x(u), y(u) into a B-spline: curvature feature points plus
     /// auxiliary samples placed by the fireworks algorithm (or another optimizer); JSON on
     /// stdout.
+    #[command(after_help = EXIT_STATUS)]
     Bspline(bspline::BsplineArgs),
     /// Merge two adjacent disk Wang–Ball curves into one of a given degree, exactly (least
     /// squares) or by a metaheuristic; prints the control disks and merging error as JSON.
+    #[command(after_help = EXIT_STATUS)]
     Merge(merge::MergeArgs),
     /// Reduce the degree of an (SG-)Bézier curve from n to m < n (unconstrained, C0 or C1
     /// ends), exactly (least squares) or with a metaheuristic searching the shape
     /// parameters; prints the reduced control points and the L2 error as JSON.
+    #[command(after_help = EXIT_STATUS)]
     Reduce(reduce::ReduceArgs),
 }
 
@@ -64,6 +80,26 @@ impl From<SearchArg> for Search {
     }
 }
 
+/// Parses a whole number for an unsigned option, so that a negative or fractional value is
+/// refused with its range rather than clap's "unexpected argument" or "invalid digit".
+fn whole<T: TryFrom<i128>>(s: &str) -> Result<T, String> {
+    let n: i128 = s
+        .trim()
+        .parse()
+        .map_err(|_| "must be a whole number".to_string())?;
+    if n < 0 {
+        return Err("must be 0 or more".into());
+    }
+    T::try_from(n).map_err(|_| {
+        let max = (0..128)
+            .rev()
+            .map(|b| (1i128 << b) - 1)
+            .find(|&m| T::try_from(m).is_ok())
+            .unwrap_or(0);
+        format!("must be at most {max}")
+    })
+}
+
 /// `lsq` and every metaheuristic's name, for `--optimizer`.
 fn optimizer_names() -> PossibleValuesParser {
     PossibleValuesParser::new(
@@ -79,18 +115,33 @@ struct ShapeArgs {
     /// 0.3 px sits well above the ~0.05 px noise of sub-pixel edges, and on the development
     /// corpus it beats potrace's area error by 2.8× (64 px glyphs) to 3.3× (256 px) with
     /// fewer segments; 0.4 saves ~10% of segments but misses the 64 px area target.
-    #[arg(long, default_value_t = 0.3, value_name = "PX")]
+    #[arg(
+        long,
+        default_value_t = 0.3,
+        value_name = "PX",
+        allow_negative_numbers = true
+    )]
     tolerance: f64,
     /// Turning angle (degrees) above which a point is a corner (G0 joint).
-    #[arg(long, default_value_t = 50.0, value_name = "DEG")]
+    #[arg(
+        long,
+        default_value_t = 50.0,
+        value_name = "DEG",
+        allow_negative_numbers = true
+    )]
     corner_angle: f64,
     /// Drop shapes and holes smaller than this area (px²), like potrace's turdsize.
-    #[arg(long, default_value_t = 2.0, value_name = "PX2")]
+    #[arg(
+        long,
+        default_value_t = 2.0,
+        value_name = "PX2",
+        allow_negative_numbers = true
+    )]
     min_area: f64,
     /// Foreground threshold, 0–255: pixels darker than this are the shape (lighter with
     /// --invert; more opaque when an image with transparency traces its alpha). Default:
     /// Otsu's level; the report's "threshold" gives the one used, on the same scale.
-    #[arg(long, value_name = "0-255")]
+    #[arg(long, value_name = "0-255", allow_negative_numbers = true, value_parser = whole::<u8>)]
     threshold: Option<u8>,
     /// Trace the luminance (transparent pixels count as white paper) even when the image
     /// has transparency, which otherwise traces its alpha channel.
@@ -100,7 +151,7 @@ struct ShapeArgs {
     #[arg(long)]
     invert: bool,
     /// Refuse images with more pixels than this (protects memory).
-    #[arg(long, default_value_t = 50_000_000, value_name = "N")]
+    #[arg(long, default_value_t = 50_000_000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     max_pixels: u64,
 }
 
@@ -137,11 +188,16 @@ struct FitArgs {
     #[arg(long, value_enum, default_value_t = SearchArg::Weights)]
     search: SearchArg,
     /// Objective evaluations per segment for a metaheuristic.
-    #[arg(long, default_value_t = 5000, value_name = "N")]
+    #[arg(long, default_value_t = 5000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Widen the `full` search's control-point box by this factor (1 = the paper's box of
     /// Eq. 9, the extent of each segment's data, which can exclude the optimum).
-    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        value_name = "S",
+        allow_negative_numbers = true
+    )]
     search_box_scale: f64,
     /// Record each segment's best-so-far error after every evaluation in the JSON report
     /// (metaheuristics only; large).
@@ -149,7 +205,7 @@ struct FitArgs {
     history: bool,
     /// Seed of every random choice; the same seed gives the same output on any number of
     /// threads.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Write 0 for every time in reports, so reports are byte-identical across runs.
     #[arg(long)]
@@ -161,7 +217,7 @@ struct FitArgs {
     #[arg(long)]
     merge: bool,
     /// Degree of merged curves (3–20).
-    #[arg(long, default_value_t = 5, value_name = "N")]
+    #[arg(long, default_value_t = 5, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     merge_degree: usize,
     /// Where smooth break points go: `curvature` (curvature analysis and error-driven
     /// splitting) or `optimize` (same corners and segment count, smooth joints moved by
@@ -174,7 +230,7 @@ struct FitArgs {
     #[arg(long, default_value = outlinefit::fit::break_placement::DEFAULT_OPTIMIZER, value_name = "NAME")]
     break_optimizer: String,
     /// Objective evaluations per movable smooth joint with --breaks optimize.
-    #[arg(long, default_value_t = outlinefit::fit::break_placement::DEFAULT_BUDGET, value_name = "N")]
+    #[arg(long, default_value_t = outlinefit::fit::break_placement::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     break_budget: u64,
     /// Fail (exit 1, no SVG written) when the drawn outline does not match the input after
     /// repair: a data point farther from the drawn path than the tolerance allows, or a

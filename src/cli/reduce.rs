@@ -1,5 +1,6 @@
 //! `outlinefit reduce`: degree reduction of an (SG-)Bézier curve, printed as JSON.
 
+use super::whole;
 use anyhow::Context;
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
@@ -20,7 +21,7 @@ pub(crate) struct ReduceArgs {
     #[arg(value_name = "INPUT.json")]
     input: PathBuf,
     /// Degree m of the reduced curve: 1 ≤ m < n (m ≥ 3 with --constraint c1).
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", allow_negative_numbers = true, value_parser = whole::<usize>)]
     degree: usize,
     /// End conditions: `none`; `c0` keeps the end points; `c1` keeps the end points and the
     /// end derivatives (first derivatives, with their lengths).
@@ -35,14 +36,14 @@ pub(crate) struct ReduceArgs {
     method: String,
     /// Objective evaluations (least-squares solves) of a metaheuristic, one of them spent
     /// on the ω = 0 comparison. The default is the paper's 20 wolves × 300 iterations.
-    #[arg(long, default_value_t = 6000, value_name = "N")]
+    #[arg(long, default_value_t = 6000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of a metaheuristic's random choices; the same seed gives the same output.
-    #[arg(long, default_value_t = 1, value_name = "S")]
+    #[arg(long, default_value_t = 1, value_name = "S", allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// With `exact`: the reduced curve's global shape parameter ω (the paper uses
     /// 0 ≤ ω ≤ 1). Default 0 (plain Bézier).
-    #[arg(long, value_name = "W")]
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
     omega: Option<f64>,
     /// With `exact`: the reduced curve's λ_1, λ_2, … comma-separated (⌊m/2⌋ values,
     /// ⌊m/2⌋ + 1 for odd m). Default C(m+1, j)/2.
