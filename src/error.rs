@@ -46,10 +46,12 @@ pub enum Error {
         limit: u64,
     },
     /// Nothing was found to trace: every pixel is background.
-    #[error("no shape found: every pixel is background ({threshold}); if the shapes are light on a dark background try --invert, otherwise --threshold")]
+    #[error("no shape found: every pixel is background ({threshold}); {hint}")]
     NoForeground {
         /// The threshold that was used, as a user reads it (e.g. "luminance below 136.0").
         threshold: String,
+        /// What to try.
+        hint: String,
     },
     /// Every shape of the image is smaller than the speck size, so none was traced.
     #[error("no shape found: all {shapes} shapes are smaller than the minimum area of {min_area} px² (lower --min-area to keep them)")]

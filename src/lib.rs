@@ -60,8 +60,9 @@ pub struct Config {
     /// shape (lighter with `invert`; more opaque when tracing alpha). Default: `None`,
     /// Otsu's threshold of the image.
     pub threshold: Option<u8>,
-    /// Trace the luminance even when the image has transparency. Default: false.
-    pub luminance: bool,
+    /// Whether the alpha channel or the luminance is the shape. Default:
+    /// [`raster::AlphaRule::Auto`] (alpha when at least a tenth of the image is transparent).
+    pub alpha: raster::AlphaRule,
     /// Treat light shapes on a dark background as the foreground. Default: false.
     pub invert: bool,
     /// Largest image accepted, in pixels (width × height). Default: 50 000 000, about
@@ -118,7 +119,7 @@ impl Default for Config {
     fn default() -> Self {
         Config {
             threshold: None,
-            luminance: false,
+            alpha: raster::AlphaRule::Auto,
             invert: false,
             max_pixels: 50_000_000,
             min_area: 2.0,
@@ -194,7 +195,7 @@ impl Config {
     pub fn raster_options(&self) -> RasterOptions {
         RasterOptions {
             threshold: self.threshold,
-            luminance: self.luminance,
+            alpha: self.alpha,
             invert: self.invert,
             max_pixels: self.max_pixels,
         }
@@ -275,8 +276,19 @@ pub fn trace_file(path: &Path, config: &Config) -> Result<TraceResult> {
 fn nothing_traced(bitmap: &Bitmap, min_area: f64) -> Error {
     let mask = bitmap.mask();
     if mask.pixels().all(|p| p[0] == 0) {
+        let transparent = bitmap.transparent_fraction();
+        let hint = if !bitmap.from_alpha() && transparent > 0.0 {
+            format!(
+                "{:.1} % of the image is transparent: --alpha traces its alpha channel",
+                100.0 * transparent
+            )
+        } else {
+            "if the shapes are light on a dark background try --invert, otherwise --threshold"
+                .into()
+        };
         return Error::NoForeground {
             threshold: bitmap.threshold_scale().describe(bitmap.threshold_value()),
+            hint,
         };
     }
     let labels = imageproc::region_labelling::connected_components(

@@ -9,8 +9,10 @@
 //!
 //! Coverage is a number per pixel in [0, 1]: 1 is foreground (ink), 0 background (paper).
 //!
-//! * When the image has an alpha channel that is not fully opaque everywhere, the shape
-//!   **is** the alpha: coverage = alpha. Colour is ignored, so a white logo on a transparent
+//! * When at least a tenth of the pixels are mostly transparent (alpha below one half:
+//!   a logo or silhouette on a transparent background), the shape **is** the alpha:
+//!   coverage = alpha ([`AlphaRule`]; an opaque picture with a few transparent pixels or
+//!   rounded transparent corners traces its luminance). Colour is ignored, so a white logo on a transparent
 //!   background traces the same as a black one (the tempting alpha × (1 − luma) would make
 //!   white logos vanish). `invert` then traces the transparent part.
 //! * Otherwise coverage = 1 − luma (Rec. 601 for colour images; dark shapes on a light background), and `invert` makes it
@@ -57,9 +59,9 @@ pub struct RasterOptions {
     /// alpha, more opaque ones. Default: `None`, Otsu's level (clamped to [0.2, 0.8] of
     /// the coverage).
     pub threshold: Option<u8>,
-    /// Trace the luminance (composited over white) even when the image has transparency.
-    /// Default: false (a transparent image traces its alpha).
-    pub luminance: bool,
+    /// Whether the alpha channel or the luminance is the shape. Default:
+    /// [`AlphaRule::Auto`].
+    pub alpha: AlphaRule,
     /// Trace light shapes on a dark background (or, with alpha, the transparent part).
     /// Default: false.
     pub invert: bool,
@@ -150,6 +152,8 @@ pub struct Bitmap {
     scale: ThresholdScale,
     /// True when most of the outermost ring of pixels is foreground.
     dark_border: bool,
+    /// Fraction of the pixels that are mostly transparent (alpha below one half).
+    transparent: f64,
 }
 
 impl Bitmap {
@@ -212,6 +216,7 @@ impl Bitmap {
             from_alpha,
             scale: ThresholdScale::Coverage,
             dark_border: false,
+            transparent: 0.0,
         };
         bitmap.bilevel = bitmap.detect_bilevel();
         bitmap.dark_border = bitmap.detect_dark_border();
@@ -294,6 +299,12 @@ impl Bitmap {
     /// True when the coverage came from the alpha channel.
     pub fn from_alpha(&self) -> bool {
         self.from_alpha
+    }
+
+    /// Fraction of the pixels that are mostly transparent (alpha below one half); 0 for an
+    /// image without alpha.
+    pub fn transparent_fraction(&self) -> f64 {
+        self.transparent
     }
 
     /// What the threshold is compared with, as the user sees the image.
@@ -494,44 +505,93 @@ fn check_dimensions(width: u32, height: u32, max_pixels: u64) -> Result<()> {
     Ok(())
 }
 
+/// Calls `f(luma, alpha)` for every pixel in row-major order, both in [0, 1] (floats as
+/// stored). Colour goes through Rec. 601 luma, the weights of JPEG's Y channel and of most
+/// image tools' greyscale (the `image` crate's own conversion uses Rec. 709, which puts an
+/// orange or red shape on the other side of a threshold than the same picture in
+/// greyscale does in those tools). The common layouts are read in place; others are
+/// converted to 32-bit float RGBA first.
+fn for_each_luma_alpha(img: &DynamicImage, mut f: impl FnMut(f32, f32)) {
+    // Divisions, not multiplications by reciprocals: the same values as `image`'s own
+    // conversion to floats.
+    let u8f = |v: u8| f32::from(v) / 255.0;
+    let u16f = |v: u16| f32::from(v) / 65535.0;
+    let rgb = |r: f32, g: f32, b: f32| REC601[0] * r + REC601[1] * g + REC601[2] * b;
+    match img {
+        DynamicImage::ImageLuma8(b) => b.pixels().for_each(|p| f(u8f(p[0]), 1.0)),
+        DynamicImage::ImageLumaA8(b) => b.pixels().for_each(|p| f(u8f(p[0]), u8f(p[1]))),
+        DynamicImage::ImageLuma16(b) => b.pixels().for_each(|p| f(u16f(p[0]), 1.0)),
+        DynamicImage::ImageLumaA16(b) => b.pixels().for_each(|p| f(u16f(p[0]), u16f(p[1]))),
+        DynamicImage::ImageRgb8(b) => b.pixels().for_each(|p| {
+            let [r, g, bl] = p.0.map(u8f);
+            f(rgb(r, g, bl), 1.0)
+        }),
+        DynamicImage::ImageRgba8(b) => b.pixels().for_each(|p| {
+            let [r, g, bl, a] = p.0.map(u8f);
+            f(rgb(r, g, bl), a)
+        }),
+        other => other
+            .to_rgba32f()
+            .pixels()
+            .for_each(|p| f(rgb(p[0], p[1], p[2]), p[3])),
+    }
+}
+
+/// Fraction of an image's pixels that must be mostly transparent (alpha below one half)
+/// for its alpha channel to be traced as the shape ([`AlphaRule::Auto`]).
+pub const ALPHA_SHAPE_FRACTION: f64 = 0.10;
+
+/// Whether the shape is the alpha channel or the luminance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AlphaRule {
+    /// The alpha channel when at least [`ALPHA_SHAPE_FRACTION`] of the pixels are mostly
+    /// transparent (a logo or silhouette on a transparent background), otherwise the
+    /// luminance composited over white (an opaque picture with a few transparent pixels,
+    /// an icon with rounded transparent corners).
+    #[default]
+    Auto,
+    /// Always the alpha channel; an image without one is an error.
+    Alpha,
+    /// Always the luminance, transparent pixels counting as white paper.
+    Luminance,
+}
+
 /// Turns a decoded image into a [`Bitmap`] (see the module docs for the coverage rules).
 ///
-/// Errors: [`Error::ZeroSize`], [`Error::TooLarge`] (against `opts.max_pixels`).
+/// Errors: [`Error::ZeroSize`], [`Error::TooLarge`] (against `opts.max_pixels`),
+/// [`Error::InvalidOption`] for [`AlphaRule::Alpha`] on an image without alpha.
 pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
     let (width, height) = img.dimensions();
     check_dimensions(width, height, opts.max_pixels)?;
-    // (luma, alpha) per pixel. Colour goes through Rec. 601 luma, the weights of JPEG's Y
-    // channel and of most image tools' greyscale (the `image` crate's own conversion uses
-    // Rec. 709, which puts an orange or red shape on the other side of a threshold than
-    // the same picture in greyscale does in those tools).
-    let luma_alpha: Vec<f32> = if img.color().has_color() {
-        img.to_rgba32f()
-            .into_raw()
-            .chunks_exact(4)
-            .flat_map(|p| [REC601[0] * p[0] + REC601[1] * p[1] + REC601[2] * p[2], p[3]])
-            .collect()
-    } else {
-        img.to_luma_alpha32f().into_raw()
-    };
-    let from_alpha = !opts.luminance
-        && img.color().has_alpha()
-        && luma_alpha.chunks_exact(2).any(|p| p[1] < 1.0);
-    // With `luminance`, transparent pixels show the white paper under them.
-    let mut coverage: Vec<f32> = luma_alpha
-        .chunks_exact(2)
-        .map(|p| {
-            if from_alpha {
-                p[1]
-            } else {
-                1.0 - (p[0] * p[1] + (1.0 - p[1]))
-            }
-        })
-        .collect();
-    if opts.invert {
-        for v in &mut coverage {
-            *v = 1.0 - *v;
-        }
+    let pixels = u64::from(width) * u64::from(height);
+    let has_alpha = img.color().has_alpha();
+    let mut transparent = 0u64;
+    if has_alpha {
+        for_each_luma_alpha(img, |_, a| transparent += u64::from(a < 0.5));
     }
+    let transparent = transparent as f64 / pixels as f64;
+    let from_alpha = match opts.alpha {
+        AlphaRule::Auto => has_alpha && transparent >= ALPHA_SHAPE_FRACTION,
+        AlphaRule::Luminance => false,
+        AlphaRule::Alpha if has_alpha => true,
+        AlphaRule::Alpha => {
+            return Err(Error::InvalidOption {
+                name: "--alpha",
+                message: "the image has no alpha channel".into(),
+            })
+        }
+    };
+    let mut coverage = Vec::with_capacity(pixels as usize);
+    // With luminance, transparent pixels show the white paper under them.
+    for_each_luma_alpha(img, |l, a| {
+        let c = if from_alpha {
+            a
+        } else {
+            1.0 - (l * a + (1.0 - a))
+        };
+        coverage.push(if opts.invert { 1.0 - c } else { c });
+    });
     let scale = match (from_alpha, opts.invert) {
         (false, false) => ThresholdScale::Luminance,
         (false, true) => ThresholdScale::InvertedLuminance,
@@ -543,6 +603,7 @@ pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
         .map(|t| scale.coverage_threshold(f64::from(t)));
     let mut bitmap = Bitmap::build(width, height, coverage, threshold, from_alpha)?;
     bitmap.scale = scale;
+    bitmap.transparent = transparent;
     Ok(bitmap)
 }
 
@@ -629,7 +690,7 @@ mod tests {
     fn opts() -> RasterOptions {
         RasterOptions {
             threshold: None,
-            luminance: false,
+            alpha: AlphaRule::Auto,
             invert: false,
             max_pixels: 1 << 30,
         }
@@ -795,6 +856,46 @@ mod tests {
         let b = from_image(&DynamicImage::ImageLumaA8(opaque), &opts()).unwrap();
         assert!(!b.from_alpha());
         assert_eq!(b.coverage(), &[0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn alpha_is_traced_only_where_a_tenth_of_the_image_is_transparent() {
+        // 100 opaque pixels, a dark bar in the middle; `clear` of them transparent.
+        let picture = |clear: u32| {
+            let img = RgbaImage::from_fn(10, 10, |x, y| {
+                let dark = (3..7).contains(&x) && (3..7).contains(&y);
+                let a = if y * 10 + x < clear { 0 } else { 255 };
+                let v = if dark { 0 } else { 255 };
+                Rgba([v, v, v, a])
+            });
+            DynamicImage::ImageRgba8(img)
+        };
+        // One transparent pixel: the luminance is the shape, not the whole rectangle.
+        let b = from_image(&picture(1), &opts()).unwrap();
+        assert!(!b.from_alpha());
+        assert_eq!(b.coverage().iter().filter(|&&c| c > 0.5).count(), 16);
+        assert!((b.transparent_fraction() - 0.01).abs() < 1e-12);
+        // Nine transparent pixels (just under a tenth): still luminance; ten: alpha.
+        assert!(!from_image(&picture(9), &opts()).unwrap().from_alpha());
+        let b = from_image(&picture(10), &opts()).unwrap();
+        assert!(b.from_alpha());
+        assert_eq!(b.coverage().iter().filter(|&&c| c > 0.5).count(), 90);
+        // Either choice can be forced.
+        let forced = |alpha| RasterOptions { alpha, ..opts() };
+        assert!(from_image(&picture(1), &forced(AlphaRule::Alpha))
+            .unwrap()
+            .from_alpha());
+        assert!(!from_image(&picture(10), &forced(AlphaRule::Luminance))
+            .unwrap()
+            .from_alpha());
+        let grey = DynamicImage::ImageLuma8(GrayImage::new(4, 4));
+        assert!(matches!(
+            from_image(&grey, &forced(AlphaRule::Alpha)),
+            Err(Error::InvalidOption {
+                name: "--alpha",
+                ..
+            })
+        ));
     }
 
     #[test]

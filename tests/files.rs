@@ -516,3 +516,48 @@ fn messages_say_what_happened() {
         );
     }
 }
+
+#[test]
+fn one_transparent_pixel_does_not_switch_to_alpha() {
+    let dir = scratch("alpha");
+    // The bar of `bar()` in an opaque RGBA image with one transparent corner pixel.
+    let grey = bar();
+    let img = image::RgbaImage::from_fn(grey.width(), grey.height(), |x, y| {
+        let v = grey.get_pixel(x, y)[0];
+        image::Rgba([v, v, v, if (x, y) == (0, 0) { 0 } else { 255 }])
+    });
+    let input = dir.join("one.png");
+    img.save(&input).unwrap();
+    let svg = dir.join("one.svg");
+    let report = dir.join("one.json");
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(&svg)
+        .arg("--report")
+        .arg(&report));
+    assert_eq!(code, 0, "{err}");
+    let b = path_box(&std::fs::read_to_string(&svg).unwrap());
+    assert!(
+        (b[0] - 10.0).abs() < 0.01 && (b[2] - 40.0).abs() < 0.01,
+        "{b:?}"
+    );
+    assert!(
+        (b[1] - 5.0).abs() < 0.01 && (b[3] - 15.0).abs() < 0.01,
+        "{b:?}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(json["images"][0]["image"]["from_alpha"], false);
+    // --alpha traces the opaque rectangle instead.
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(&svg)
+        .arg("--alpha"));
+    assert_eq!(code, 0, "{err}");
+    let b = path_box(&std::fs::read_to_string(&svg).unwrap());
+    assert!(b[2] - b[0] > 59.0 && b[3] - b[1] > 39.0, "{b:?}");
+}

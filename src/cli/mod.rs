@@ -10,6 +10,7 @@ mod trace;
 
 use clap::builder::PossibleValuesParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use outlinefit::raster::AlphaRule;
 use outlinefit::{Config, Search, TraceResult};
 use std::path::PathBuf;
 
@@ -143,10 +144,14 @@ struct ShapeArgs {
     /// Otsu's level; the report's "threshold" gives the one used, on the same scale.
     #[arg(long, value_name = "0-255", allow_negative_numbers = true, value_parser = whole::<u8>)]
     threshold: Option<u8>,
-    /// Trace the luminance (transparent pixels count as white paper) even when the image
-    /// has transparency, which otherwise traces its alpha channel.
+    /// Trace the luminance (transparent pixels count as white paper) even when at least a
+    /// tenth of the image is transparent, which otherwise traces its alpha channel.
     #[arg(long)]
     luminance: bool,
+    /// Trace the alpha channel (opaque is the shape) even when less than a tenth of the
+    /// image is transparent, which otherwise traces the luminance.
+    #[arg(long, conflicts_with = "luminance")]
+    alpha: bool,
     /// Light shapes on a dark background (or inverted alpha) are the foreground.
     #[arg(long)]
     invert: bool,
@@ -160,7 +165,11 @@ impl ShapeArgs {
     fn config(&self) -> Config {
         Config {
             threshold: self.threshold,
-            luminance: self.luminance,
+            alpha: match (self.alpha, self.luminance) {
+                (true, _) => AlphaRule::Alpha,
+                (_, true) => AlphaRule::Luminance,
+                _ => AlphaRule::Auto,
+            },
             invert: self.invert,
             max_pixels: self.max_pixels,
             min_area: self.min_area,

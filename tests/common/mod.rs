@@ -5,7 +5,7 @@
 //!   SVG (for instance one produced by the tracer) with `resvg` and return
 //!   per-pixel coverage taken from alpha, so the fill colour does not matter;
 //! * [`image_coverage`] reads a sample PNG the way the tracer sees it
-//!   (alpha if the image has any non-opaque pixel, else `1 - luma`);
+//!   (alpha if at least a tenth of the pixels are mostly transparent, else `1 - luma`);
 //! * [`coverage_iou`] compares two coverage fields (Σ min / Σ max);
 //! * [`samples_dir`] / [`sample_paths`] locate the bundled samples.
 //!
@@ -70,8 +70,8 @@ pub fn render_svg_coverage_scaled(svg: &str, width: u32, height: u32, scale: f32
 }
 
 /// Loads an image and returns `(width, height, coverage)`, the way the tracer
-/// sees it: if the image has an alpha channel with at least one non-opaque
-/// pixel, coverage is alpha; otherwise it is `1 - luma` (dark = inside), with
+/// sees it: if at least a tenth of the pixels have alpha below one half, coverage is
+/// alpha; otherwise it is `1 - luma` (dark = inside), with
 /// luma from the `image` crate's Rec. 709 conversion (exact for grayscale).
 ///
 /// Panics with the path in the message if the image cannot be read.
@@ -79,7 +79,8 @@ pub fn image_coverage(path: &Path) -> (u32, u32, Vec<f32>) {
     let img = image::open(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     let la = img.to_luma_alpha32f();
     let (width, height) = la.dimensions();
-    let use_alpha = img.color().has_alpha() && la.pixels().any(|p| p.0[1] < 1.0);
+    let transparent = la.pixels().filter(|p| p.0[1] < 0.5).count();
+    let use_alpha = transparent * 10 >= la.pixels().count();
     let coverage = la
         .pixels()
         .map(|p| {
