@@ -25,6 +25,14 @@ pub enum Error {
         #[source]
         source: image::ImageError,
     },
+    /// The image decodes but its pixel layout is one the tracer does not read.
+    #[error("{}: not a readable image: {message}", path.display())]
+    Unsupported {
+        /// The file.
+        path: PathBuf,
+        /// What is not supported and what is.
+        message: String,
+    },
     /// The image has no pixels.
     #[error("the image has zero size ({width}×{height})")]
     ZeroSize {

@@ -22,6 +22,7 @@ pub mod error;
 pub mod export;
 pub mod fidelity;
 pub mod fit;
+mod frames;
 pub mod geom;
 pub mod io;
 pub mod merge;
@@ -63,6 +64,9 @@ pub struct Config {
     /// Whether the alpha channel or the luminance is the shape. Default:
     /// [`raster::AlphaRule::Auto`] (alpha when at least a tenth of the image is transparent).
     pub alpha: raster::AlphaRule,
+    /// Which frame of an animation (GIF, APNG, WebP) or page of a TIFF file to trace, from
+    /// 0. Default: 0.
+    pub frame: u32,
     /// Treat light shapes on a dark background as the foreground. Default: false.
     pub invert: bool,
     /// Largest image accepted, in pixels (width × height). Default: 50 000 000, about
@@ -120,6 +124,7 @@ impl Default for Config {
         Config {
             threshold: None,
             alpha: raster::AlphaRule::Auto,
+            frame: 0,
             invert: false,
             max_pixels: 50_000_000,
             min_area: 2.0,
@@ -196,6 +201,7 @@ impl Config {
         RasterOptions {
             threshold: self.threshold,
             alpha: self.alpha,
+            frame: self.frame,
             invert: self.invert,
             max_pixels: self.max_pixels,
         }
@@ -223,6 +229,10 @@ pub struct ImageInfo {
     pub from_alpha: bool,
     /// True when most of the image border is foreground: the polarity is probably wrong.
     pub dark_border: bool,
+    /// The frame of an animation or page of a TIFF file that was traced, from 0.
+    pub frame: u32,
+    /// How many frames or pages the file has (1 for a still image).
+    pub frames: u32,
 }
 
 /// The outcome of tracing one image.
@@ -390,6 +400,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             bilevel: bitmap.is_bilevel(),
             from_alpha: bitmap.from_alpha(),
             dark_border: bitmap.dark_border(),
+            frame: bitmap.frame().0,
+            frames: bitmap.frame().1,
         },
         contours: fitted,
         fidelity,

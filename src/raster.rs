@@ -30,6 +30,7 @@
 //! of that range is taken, so a 0/255 image gets exactly 0.5.
 
 use crate::error::{Error, Result};
+use crate::frames;
 use crate::geom::Point;
 use image::{DynamicImage, GenericImageView, GrayImage, ImageDecoder, ImageReader, Limits};
 use std::path::Path;
@@ -68,6 +69,9 @@ pub struct RasterOptions {
     /// Largest accepted width × height, checked from the file header before any pixel is
     /// decoded. Default (in [`crate::Config`]): 50 000 000.
     pub max_pixels: u64,
+    /// Which frame of an animation (GIF, APNG, WebP) or page of a TIFF file to trace,
+    /// from 0. Default: 0.
+    pub frame: u32,
 }
 
 /// What the threshold is compared with, as a user sees the image.
@@ -154,6 +158,10 @@ pub struct Bitmap {
     dark_border: bool,
     /// Fraction of the pixels that are mostly transparent (alpha below one half).
     transparent: f64,
+    /// The frame or page traced, from 0.
+    frame: u32,
+    /// How many frames or pages the file has (1 for a still image or a coverage field).
+    frames: u32,
 }
 
 impl Bitmap {
@@ -217,6 +225,8 @@ impl Bitmap {
             scale: ThresholdScale::Coverage,
             dark_border: false,
             transparent: 0.0,
+            frame: 0,
+            frames: 1,
         };
         bitmap.bilevel = bitmap.detect_bilevel();
         bitmap.dark_border = bitmap.detect_dark_border();
@@ -299,6 +309,11 @@ impl Bitmap {
     /// True when the coverage came from the alpha channel.
     pub fn from_alpha(&self) -> bool {
         self.from_alpha
+    }
+
+    /// The frame or page traced (from 0) and how many the file has.
+    pub fn frame(&self) -> (u32, u32) {
+        (self.frame, self.frames)
     }
 
     /// Fraction of the pixels that are mostly transparent (alpha below one half); 0 for an
@@ -625,19 +640,20 @@ pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
 /// the header and checked before any pixel is decoded, and the decoder's memory is capped
 /// in proportion to `opts.max_pixels`, so a hostile header cannot make it allocate much
 /// more than an accepted image would need. The EXIF orientation (JPEG, PNG, TIFF, WebP) is
-/// applied as image viewers do, so a phone photo is traced upright. Animated and
-/// multi-page files give their first frame. A JPEG without its end-of-image marker is
+/// applied as image viewers do, so a phone photo is traced upright. Animated GIF, PNG and
+/// WebP files and multi-page TIFF files give frame `opts.frame`. A JPEG without its end-of-image marker is
 /// refused as truncated: its decoder fills the missing rows silently.
 ///
 /// Errors: [`Error::Decode`] when the bytes are not a supported image or are truncated or
-/// corrupt, or the colour type is not supported; [`Error::ZeroSize`];
+/// corrupt; [`Error::Unsupported`] for a TIFF pixel layout that is not read;
+/// [`Error::InvalidOption`] for a frame past the last; [`Error::ZeroSize`];
 /// [`Error::TooLarge`].
 pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     let decode_error = |source| Error::Decode {
         path: name.to_path_buf(),
         source,
     };
-    let mut reader = ImageReader::new(std::io::Cursor::new(bytes))
+    let reader = ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|source| Error::Read {
             path: name.to_path_buf(),
@@ -651,23 +667,74 @@ pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bit
             ),
         )));
     }
+    let max_bytes = opts
+        .max_pixels
+        .saturating_mul(DECODE_BYTES_PER_PIXEL)
+        .saturating_add(DECODE_SLACK_BYTES);
     let mut limits = Limits::default();
-    limits.max_alloc = Some(
-        opts.max_pixels
-            .saturating_mul(DECODE_BYTES_PER_PIXEL)
-            .saturating_add(DECODE_SLACK_BYTES),
-    );
+    limits.max_alloc = Some(max_bytes);
+    let format = reader.format();
+    let check = |w, h| check_dimensions(w, h, opts.max_pixels);
+    let (img, frames) =
+        if let Some(found) = frames::animation_frame(bytes, format, opts.frame, &limits, name)? {
+            found
+        } else if format == Some(image::ImageFormat::Tiff) {
+            let pages = frames::tiff_page_count(bytes, name)?;
+            if opts.frame >= pages {
+                return Err(frames::out_of_range(opts.frame, pages));
+            }
+            // The `image` crate reads the first page (with its orientation); other pages, and
+            // first pages it does not support (floating-point grey), go through `tiff`.
+            let first = (opts.frame == 0)
+                .then(|| decode_still(reader, limits, name, &check))
+                .transpose();
+            match first {
+                Ok(Some(img)) => (img, pages),
+                Err(Error::Decode {
+                    source: image::ImageError::Unsupported(_),
+                    ..
+                })
+                | Ok(None) => (
+                    frames::tiff_page(bytes, opts.frame, max_bytes, name, check)?,
+                    pages,
+                ),
+                Err(e) => return Err(e),
+            }
+        } else {
+            if opts.frame > 0 {
+                return Err(frames::out_of_range(opts.frame, 1));
+            }
+            (decode_still(reader, limits, name, &check)?, 1)
+        };
+    let mut bitmap = from_image(&img, opts)?;
+    bitmap.frame = opts.frame;
+    bitmap.frames = frames;
+    Ok(bitmap)
+}
+
+/// Decodes a still image (or an animation's first frame) with `limits`, checking its size
+/// with `check` before any pixel is decoded and applying its EXIF orientation.
+fn decode_still(
+    mut reader: ImageReader<std::io::Cursor<&[u8]>>,
+    limits: Limits,
+    name: &Path,
+    check: &dyn Fn(u32, u32) -> Result<()>,
+) -> Result<DynamicImage> {
+    let decode_error = |source| Error::Decode {
+        path: name.to_path_buf(),
+        source,
+    };
     reader.limits(limits);
     let mut decoder = reader.into_decoder().map_err(decode_error)?;
     let (width, height) = decoder.dimensions();
-    check_dimensions(width, height, opts.max_pixels)?;
+    check(width, height)?;
     // A missing or unreadable orientation tag means upright.
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
     let mut img = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
     img.apply_orientation(orientation);
-    from_image(&img, opts)
+    Ok(img)
 }
 
 /// True when JPEG data ends with its end-of-image marker (FF D9), allowing for the
@@ -693,6 +760,7 @@ mod tests {
             alpha: AlphaRule::Auto,
             invert: false,
             max_pixels: 1 << 30,
+            frame: 0,
         }
     }
 

@@ -561,3 +561,119 @@ fn one_transparent_pixel_does_not_switch_to_alpha() {
     let b = path_box(&std::fs::read_to_string(&svg).unwrap());
     assert!(b[2] - b[0] > 59.0 && b[3] - b[1] > 39.0, "{b:?}");
 }
+
+/// A 60×40 image with a dark 15×15 square at (20, 20): the second frame of the animations.
+fn square() -> GrayImage {
+    GrayImage::from_fn(60, 40, |x, y| {
+        let on = (20..35).contains(&x) && (20..35).contains(&y);
+        Luma([if on { 0 } else { 255 }])
+    })
+}
+
+#[test]
+fn frames_and_pages_are_chosen_and_named() {
+    use image::codecs::gif::GifEncoder;
+    use image::{DynamicImage, Frame};
+    let dir = scratch("frames");
+    // An animated GIF and a two-page TIFF: the bar, then the square.
+    let gif = dir.join("anim.gif");
+    {
+        let mut enc = GifEncoder::new(std::fs::File::create(&gif).unwrap());
+        for img in [bar(), square()] {
+            let rgba = DynamicImage::ImageLuma8(img).to_rgba8();
+            enc.encode_frame(Frame::new(rgba)).unwrap();
+        }
+    }
+    let tif = dir.join("pages.tif");
+    {
+        let mut enc =
+            tiff::encoder::TiffEncoder::new(std::fs::File::create(&tif).unwrap()).unwrap();
+        for img in [bar(), square()] {
+            enc.write_image::<tiff::encoder::colortype::Gray8>(60, 40, img.as_raw())
+                .unwrap();
+        }
+    }
+    let svg = dir.join("out.svg");
+    for input in [&gif, &tif] {
+        let trace = |frame: &str| {
+            run(bin()
+                .arg("trace")
+                .arg(input)
+                .arg("-o")
+                .arg(&svg)
+                .args(["--frame", frame]))
+        };
+        let (code, _, err) = trace("0");
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains("traced frame 0 of 2"), "{err}");
+        let b = path_box(&std::fs::read_to_string(&svg).unwrap());
+        assert!(
+            (b[0] - 10.0).abs() < 0.01 && (b[2] - 40.0).abs() < 0.01,
+            "{b:?}"
+        );
+        let (code, _, err) = trace("1");
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains("traced frame 1 of 2"), "{err}");
+        let b = path_box(&std::fs::read_to_string(&svg).unwrap());
+        assert!(
+            (b[0] - 20.0).abs() < 0.01 && (b[3] - 35.0).abs() < 0.01,
+            "{b:?}"
+        );
+        std::fs::remove_file(&svg).unwrap();
+        let (code, _, err) = trace("2");
+        assert_eq!(code, 1);
+        assert!(err.contains("the file has 2 frames"), "{err}");
+        assert!(!svg.exists());
+    }
+    // A still image has one frame and no note.
+    let png = dir.join("still.png");
+    bar().save(&png).unwrap();
+    let (code, _, err) = run(bin().arg("trace").arg(&png).arg("-o").arg(&svg));
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("frame"), "{err}");
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&png)
+        .arg("-o")
+        .arg(dir.join("x.svg"))
+        .args(["--frame", "1"]));
+    assert_eq!(code, 1);
+    assert!(err.contains("the file has 1 frame "), "{err}");
+}
+
+#[test]
+fn float_tiff_is_traced_and_unsupported_samples_are_named() {
+    let dir = scratch("float");
+    let tif = dir.join("float.tif");
+    let values: Vec<f32> = bar().pixels().map(|p| f32::from(p[0]) / 255.0).collect();
+    tiff::encoder::TiffEncoder::new(std::fs::File::create(&tif).unwrap())
+        .unwrap()
+        .write_image::<tiff::encoder::colortype::Gray32Float>(60, 40, &values)
+        .unwrap();
+    let svg = dir.join("float.svg");
+    let (code, _, err) = run(bin().arg("trace").arg(&tif).arg("-o").arg(&svg));
+    assert_eq!(code, 0, "{err}");
+    let b = path_box(&std::fs::read_to_string(&svg).unwrap());
+    assert!(
+        (b[0] - 10.0).abs() < 0.01 && (b[3] - 15.0).abs() < 0.01,
+        "{b:?}"
+    );
+    // Signed integers: one line that says what the file has and what is read.
+    let signed = dir.join("signed.tif");
+    let ints: Vec<i32> = bar().pixels().map(|p| i32::from(p[0])).collect();
+    tiff::encoder::TiffEncoder::new(std::fs::File::create(&signed).unwrap())
+        .unwrap()
+        .write_image::<tiff::encoder::colortype::GrayI32>(60, 40, &ints)
+        .unwrap();
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&signed)
+        .arg("-o")
+        .arg(dir.join("signed.svg")));
+    assert_eq!(code, 1);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("signed integer samples") && err.contains("outlinefit reads"),
+        "{err}"
+    );
+}

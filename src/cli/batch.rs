@@ -164,7 +164,7 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
                     bar.suspend(|| eprintln!("error: {line}"));
                 }
                 for w in &row.warnings {
-                    bar.suspend(|| eprintln!("warning: {w}"));
+                    bar.suspend(|| eprintln!("{w}"));
                 }
                 row
             })

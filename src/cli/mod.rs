@@ -155,6 +155,10 @@ struct ShapeArgs {
     /// Light shapes on a dark background (or inverted alpha) are the foreground.
     #[arg(long)]
     invert: bool,
+    /// Which frame of an animated GIF, PNG or WebP, or page of a TIFF file, to trace,
+    /// from 0. A file with several gets a note saying which was traced.
+    #[arg(long, default_value_t = 0, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>)]
+    frame: u32,
     /// Refuse images with more pixels than this (protects memory).
     #[arg(long, default_value_t = 50_000_000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     max_pixels: u64,
@@ -172,6 +176,7 @@ impl ShapeArgs {
             },
             invert: self.invert,
             max_pixels: self.max_pixels,
+            frame: self.frame,
             min_area: self.min_area,
             corner_angle: self.corner_angle,
             tolerance: self.tolerance,
@@ -276,23 +281,30 @@ impl FitArgs {
     }
 }
 
-/// The warnings a trace deserves, one line each (without the `warning: ` prefix): a
-/// polarity that looks wrong, and a drawn outline that does not match the input.
+/// The warnings and notes a trace deserves, one line each with its `warning: ` or `note: `
+/// prefix: a polarity that looks wrong, a drawn outline that does not match the input, and
+/// which frame of a file with several was traced.
 pub(crate) fn trace_warnings(name: &str, config: &Config, result: &TraceResult) -> Vec<String> {
     let mut out = Vec::new();
+    let (frame, frames) = (result.image.frame, result.image.frames);
+    if frames > 1 {
+        out.push(format!(
+            "note: {name}: traced frame {frame} of {frames} (counted from 0; --frame N picks another)"
+        ));
+    }
     if result.image.dark_border {
         out.push(if config.invert {
             format!(
-                "{name}: most of the image border is foreground with --invert; if the shapes are dark on a light background, leave --invert out"
+                "warning: {name}: most of the image border is foreground with --invert; if the shapes are dark on a light background, leave --invert out"
             )
         } else {
             format!(
-                "{name}: most of the image border is foreground; if the shapes are light on a dark background, use --invert"
+                "warning: {name}: most of the image border is foreground; if the shapes are light on a dark background, use --invert"
             )
         });
     }
     if let Some(problem) = fidelity_problem(config, result) {
-        out.push(format!("{name}: {problem}"));
+        out.push(format!("warning: {name}: {problem}"));
     }
     out
 }

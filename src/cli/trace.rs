@@ -117,7 +117,7 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         }
     }
     for w in trace_warnings(&name, &config, &result) {
-        eprintln!("warning: {w}");
+        eprintln!("{w}");
     }
     // Reports first, the SVG last: a finished SVG means everything else is there too.
     for ((option, _), target) in named.iter().zip(&resolved).skip(1) {

@@ -394,6 +394,8 @@ pub(crate) mod tests {
                 bilevel: true,
                 from_alpha: false,
                 dark_border: false,
+                frame: 0,
+                frames: 1,
             },
             contours,
             fidelity: crate::Fidelity::default(),
