@@ -53,6 +53,18 @@ pub enum Error {
         /// The configured limit.
         limit: u64,
     },
+    /// Tracing the image would need more memory than the system has available.
+    #[error("the image is {width}×{height}: tracing it needs about {needed_mb} MB of memory, but only {available_mb} MB are available")]
+    OutOfMemory {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+        /// Estimated need, MB.
+        needed_mb: u64,
+        /// Available memory when the check ran, MB.
+        available_mb: u64,
+    },
     /// Nothing was found to trace: every pixel is background.
     #[error("no shape found: every pixel is background ({threshold}); {hint}")]
     NoForeground {

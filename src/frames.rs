@@ -13,13 +13,15 @@ use std::io::Cursor;
 use std::path::Path;
 
 /// Frame `frame` of an animated file and the number of frames it has, or `None` when the
-/// file is not an animation (a still PNG or WebP; every other format but GIF).
+/// file is not an animation (a still PNG or WebP; every other format but GIF). `check`
+/// (width, height, bytes per decoded pixel) runs before any frame is decoded.
 pub(crate) fn animation_frame(
     bytes: &[u8],
     format: Option<image::ImageFormat>,
     frame: u32,
     limits: &Limits,
     name: &Path,
+    check: &dyn Fn(u32, u32, u64) -> Result<()>,
 ) -> Result<Option<(DynamicImage, u32)>> {
     use image::codecs::{gif::GifDecoder, png::PngDecoder, webp::WebPDecoder};
     use image::ImageFormat;
@@ -30,6 +32,8 @@ pub(crate) fn animation_frame(
     let frames = match format {
         Some(ImageFormat::Gif) => {
             let mut d = GifDecoder::new(Cursor::new(bytes)).map_err(fail)?;
+            let (w, h) = d.dimensions();
+            check(w, h, 4)?;
             d.set_limits(limits.clone()).map_err(fail)?;
             d.into_frames()
         }
@@ -38,6 +42,8 @@ pub(crate) fn animation_frame(
             if !d.is_apng().map_err(fail)? {
                 return Ok(None);
             }
+            let (w, h) = d.dimensions();
+            check(w, h, 4)?;
             d.set_limits(limits.clone()).map_err(fail)?;
             d.apng().map_err(fail)?.into_frames()
         }
@@ -46,6 +52,8 @@ pub(crate) fn animation_frame(
             if !d.has_animation() {
                 return Ok(None);
             }
+            let (w, h) = d.dimensions();
+            check(w, h, 4)?;
             d.set_limits(limits.clone()).map_err(fail)?;
             d.into_frames()
         }
@@ -79,13 +87,13 @@ pub(crate) fn tiff_page_count(bytes: &[u8], name: &Path) -> Result<u32> {
 
 /// Page `page` of a TIFF file, decoded by the `tiff` crate; `max_bytes` caps its buffer.
 /// The caller has checked `page` against [`tiff_page_count`] and passes the size check
-/// `check` (width, height) before any pixel is decoded.
+/// `check` (width, height, decoded bytes per pixel), run before any pixel is decoded.
 pub(crate) fn tiff_page(
     bytes: &[u8],
     page: u32,
     max_bytes: u64,
     name: &Path,
-    check: impl FnOnce(u32, u32) -> Result<()>,
+    check: impl FnOnce(u32, u32, u64) -> Result<()>,
 ) -> Result<DynamicImage> {
     use tiff::decoder::DecodingResult as D;
     use tiff::ColorType as C;
@@ -97,7 +105,8 @@ pub(crate) fn tiff_page(
         .with_limits(limits);
     d.seek_to_image(page as usize).map_err(err)?;
     let (w, h) = d.dimensions().map_err(err)?;
-    check(w, h)?;
+    // Up to 16 bytes per pixel once decoded (float RGBA).
+    check(w, h, 16)?;
     let colour = d.colortype().map_err(err)?;
     let data = d.read_image().map_err(err)?;
     let samples = match &data {

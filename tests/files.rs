@@ -677,3 +677,49 @@ fn float_tiff_is_traced_and_unsupported_samples_are_named() {
         "{err}"
     );
 }
+
+/// A PNG whose header claims `width`×`height` grey pixels, with one tiny IDAT chunk: enough
+/// for a decoder to read the size, not to decode the pixels.
+fn png_header_only(width: u32, height: u32) -> Vec<u8> {
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut chunk = |kind: &[u8], data: &[u8]| {
+        png.extend((data.len() as u32).to_be_bytes());
+        let mut body = kind.to_vec();
+        body.extend(data);
+        png.extend(&body);
+        png.extend(crc32(&body).to_be_bytes());
+    };
+    let mut ihdr = width.to_be_bytes().to_vec();
+    ihdr.extend(height.to_be_bytes());
+    ihdr.extend([8, 0, 0, 0, 0]);
+    chunk(b"IHDR", &ihdr);
+    chunk(b"IDAT", &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01]);
+    chunk(b"IEND", &[]);
+    png
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn an_image_beyond_memory_is_refused_before_allocating() {
+    let dir = scratch("memory");
+    // 4 000 000 000 pixels: about 48 GB to trace, more than this machine or CI has.
+    let huge = dir.join("huge.png");
+    std::fs::write(&huge, png_header_only(80_000, 50_000)).unwrap();
+    let svg = dir.join("huge.svg");
+    let (code, _, err) = run(bin().arg("trace").arg(&huge).arg("-o").arg(&svg));
+    assert_eq!(code, 1);
+    assert!(err.contains("--max-pixels"), "{err}");
+    let (code, _, err) = run(bin()
+        .arg("trace")
+        .arg(&huge)
+        .arg("-o")
+        .arg(&svg)
+        .args(["--max-pixels", "5000000000"]));
+    assert_eq!(code, 1, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("needs about") && err.contains("MB are available"),
+        "{err}"
+    );
+    assert!(!svg.exists());
+}
