@@ -267,6 +267,30 @@ fn exif_orientation_is_applied() {
     );
     let (w, h) = (b[2] - b[0], b[3] - b[1]);
     assert!((w - 10.0).abs() < 0.5 && (h - 30.0).abs() < 0.5, "{b:?}");
+
+    // The same orientation in a JPEG's APP1 segment, right after the start-of-image marker.
+    let mut jpeg = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut jpeg, 95)
+        .encode_image(&bar())
+        .unwrap();
+    let mut app1 = vec![0xFF, 0xE1];
+    app1.extend_from_slice(&((2 + 6 + exif.len()) as u16).to_be_bytes());
+    app1.extend_from_slice(b"Exif\0\0");
+    app1.extend_from_slice(&exif);
+    let mut rotated = jpeg[..2].to_vec();
+    rotated.extend_from_slice(&app1);
+    rotated.extend_from_slice(&jpeg[2..]);
+    let path = dir.join("rotated.jpg");
+    std::fs::write(&path, rotated).unwrap();
+    let (code, svg, err) = run(bin().arg("trace").arg(&path).arg("-o").arg("-"));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        svg.contains("width=\"40\"") && svg.contains("height=\"60\""),
+        "{svg}"
+    );
+    let b = path_box(&svg);
+    let (w, h) = (b[2] - b[0], b[3] - b[1]);
+    assert!((w - 10.0).abs() < 0.7 && (h - 30.0).abs() < 0.7, "{b:?}");
 }
 
 fn crc32(data: &[u8]) -> u32 {
