@@ -43,7 +43,9 @@ impl Point {
     /// Euclidean length.
     #[inline]
     pub fn length(self) -> f64 {
-        self.x.hypot(self.y)
+        // Not `hypot`: its overflow care costs several times a square root, and pixel
+        // coordinates are nowhere near overflow.
+        (self.x * self.x + self.y * self.y).sqrt()
     }
 
     /// Squared Euclidean length.
