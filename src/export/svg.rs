@@ -22,7 +22,7 @@
 //! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
 //! would be filled). Contours without segments have nothing to draw and are skipped.
 
-use crate::curve::{approximate_with_cubics, CubicBez};
+use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::Point;
 use crate::TraceResult;
@@ -224,7 +224,7 @@ pub(crate) fn drawing_pieces(contour: &FittedContour, bound: f64) -> Vec<(Point,
     let n = contour.segments.len();
     let segment = |k: usize| {
         let s = &contour.segments[k];
-        (s.curve.points[0], approximate_with_cubics(&s.curve, bound))
+        (s.curve.points[0], s.drawn_cubics(bound).into_owned())
     };
     if contour.merged.is_empty() {
         return (0..n).map(segment).collect();
@@ -339,6 +339,7 @@ pub(crate) mod tests {
             seconds: 0.0,
             on_search_boundary: None,
             history: Vec::new(),
+            drawn: Default::default(),
         }
     }
 

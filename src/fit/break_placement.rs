@@ -234,7 +234,7 @@ fn summary(piece: &Piece, points: &[Point], a: usize, b: usize) -> (f64, f64, us
         .map(|(i, &u)| (sol.curve.eval(u) - points[(a + i) % n]).length_squared())
         .sum();
     debug_assert_eq!(sol.params.len(), (b + n - a) % n + 1);
-    (sum_sq, piece.max_residual, piece.pieces)
+    (sum_sq, piece.max_residual, piece.pieces())
 }
 
 /// One stretch of a contour as an optimisation problem (see the module docs).

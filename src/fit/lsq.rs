@@ -14,9 +14,9 @@
 //!    two segments.
 
 use super::solve::{fit_segment, segment_error, EndCondition, FitSettings, SegmentSolution};
-use super::{FittedContour, FittedSegment, Joint, JointKind};
+use super::{DrawnCubics, FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::{arc_lengths, SegmentedContour};
-use crate::curve::approximate_with_cubics;
+use crate::curve::{approximate_with_cubics, CubicBez};
 use crate::export::svg::SvgOptions;
 use crate::geom::{angle_between, segment_distance, Point};
 use crate::Config;
@@ -76,8 +76,27 @@ pub(super) struct Piece {
     /// Largest |P(u_i) − Q_i| at the fitted parameters (an upper bound of the true
     /// point-to-curve distance, used for split and merge decisions).
     pub(super) max_residual: f64,
+    /// The polynomial cubics the segment becomes in SVG.
+    pub(super) cubics: Vec<CubicBez>,
+}
+
+impl Piece {
+    /// A polynomial fit: drawn by its own cubic.
+    fn polynomial(solution: SegmentSolution, max_residual: f64) -> Piece {
+        let cubics = vec![CubicBez {
+            points: solution.curve.points,
+        }];
+        Piece {
+            solution,
+            max_residual,
+            cubics,
+        }
+    }
+
     /// Number of polynomial cubics the segment becomes in SVG.
-    pub(super) pieces: usize,
+    pub(super) fn pieces(&self) -> usize {
+        self.cubics.len()
+    }
 }
 
 /// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
@@ -188,26 +207,18 @@ pub(super) fn fit_piece(
     // Weights bend a cubic only so far: past a few tolerances the weight search is
     // not worth its cost, and the segment will be split anyway.
     if poly_residual <= opts.tolerance || poly_residual > 4.0 * opts.tolerance {
-        return Piece {
-            solution: poly,
-            max_residual: poly_residual,
-            pieces: 1,
-        };
+        return Piece::polynomial(poly, poly_residual);
     }
     let solution = fit_segment(buf, start, end, &search);
     let max_residual = residual(&solution);
     if max_residual >= poly_residual {
-        return Piece {
-            solution: poly,
-            max_residual: poly_residual,
-            pieces: 1,
-        };
+        return Piece::polynomial(poly, poly_residual);
     }
-    let pieces = approximate_with_cubics(&solution.curve, opts.export_bound).len();
+    let cubics = approximate_with_cubics(&solution.curve, opts.export_bound);
     Piece {
         solution,
         max_residual,
-        pieces,
+        cubics,
     }
 }
 
@@ -321,7 +332,7 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
                 let candidate = fit(&joints[prev], &joints[next], &mut buf);
                 // Accept when within tolerance and not more SVG pieces than before.
                 if candidate.max_residual > opts.tolerance
-                    || candidate.pieces > pieces[prev].pieces + pieces[j].pieces
+                    || candidate.pieces() > pieces[prev].pieces() + pieces[j].pieces()
                 {
                     failed.insert(key);
                 } else {
@@ -370,6 +381,7 @@ pub(super) fn assemble(
                 0.0
             };
             FittedSegment {
+                drawn: DrawnCubics::new(piece.solution.curve, opts.export_bound, piece.cubics),
                 curve: piece.solution.curve,
                 start: a,
                 end: b,

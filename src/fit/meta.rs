@@ -223,6 +223,7 @@ pub(super) fn finish_segment(
         },
         on_search_boundary: Some(on_search_boundary),
         history: outcome.history,
+        drawn: Default::default(),
     }
 }
 

@@ -85,6 +85,43 @@ pub struct FittedSegment {
     /// Metaheuristic fits with history on: the best objective value after each evaluation.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub history: Vec<f64>,
+    /// The polynomial cubics the SVG draws for `curve`, when the fit already made them
+    /// (see [`FittedSegment::drawn_cubics`]).
+    #[serde(skip)]
+    pub drawn: DrawnCubics,
+}
+
+/// Polynomial cubics approximating a rational segment within a bound, kept from the fit
+/// (which needs them to count SVG pieces) so that the fidelity check and the SVG writer do
+/// not compute them again. They stay tied to the curve and bound they were made for.
+#[derive(Clone, Debug, Default)]
+pub struct DrawnCubics {
+    made_for: Option<(RationalCubic, f64)>,
+    cubics: Vec<crate::curve::CubicBez>,
+}
+
+impl DrawnCubics {
+    /// `cubics`, the approximation of `curve` within `bound`.
+    pub fn new(curve: RationalCubic, bound: f64, cubics: Vec<crate::curve::CubicBez>) -> Self {
+        DrawnCubics {
+            made_for: Some((curve, bound)),
+            cubics,
+        }
+    }
+}
+
+impl FittedSegment {
+    /// The polynomial cubics that draw this segment within `bound` px
+    /// ([`crate::curve::approximate_with_cubics`]): the ones kept from the fit when they
+    /// were made for this very curve and bound, otherwise computed now.
+    pub fn drawn_cubics(&self, bound: f64) -> std::borrow::Cow<'_, [crate::curve::CubicBez]> {
+        match &self.drawn.made_for {
+            Some((curve, b)) if *curve == self.curve && *b == bound => {
+                std::borrow::Cow::Borrowed(&self.drawn.cubics)
+            }
+            _ => std::borrow::Cow::Owned(crate::curve::approximate_with_cubics(&self.curve, bound)),
+        }
+    }
 }
 
 /// A closed contour fitted by a closed chain of segments.
