@@ -302,7 +302,7 @@ pub(crate) fn escape_attribute(s: &str) -> String {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::curve::RationalCubic;
+    use crate::curve::{approximate_with_cubics, RationalCubic};
     use crate::fit::{FittedSegment, Joint, JointKind, SegmentError};
     use crate::ImageInfo;
     use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_4, SQRT_2};
