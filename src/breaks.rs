@@ -363,8 +363,13 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
                 found.push((idx, frac, JointKind::Smooth, BreakReason::CurvatureExtremum));
             }
             // Inflection between i and i+1: a sign change with clear bending on both sides.
+            // A single turning angle of exactly zero between opposite signs is an inflection
+            // right at that sample (as on a symmetric curve): the inflection sits at i + 1.
+            // (A longer straight run between opposite turns is not an inflection point.)
             let j = (i + 1) % n;
-            if theta[i] * theta[j] < 0.0 && !near_corner(j) {
+            let zeros = usize::from(theta[j] == 0.0);
+            let k = (j + zeros) % n;
+            if theta[i] * theta[k] < 0.0 && !near_corner(j) {
                 let lobe = |start: usize, step: isize, sign: f64| {
                     let mut m: f64 = 0.0;
                     let mut k = start as isize;
@@ -378,9 +383,13 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
                     }
                     m
                 };
-                if lobe(i, -1, theta[i].signum()) > floor && lobe(j, 1, theta[j].signum()) > floor {
-                    let f = theta[i].abs() / (theta[i].abs() + theta[j].abs());
-                    found.push((i, f, JointKind::Smooth, BreakReason::Inflection));
+                if lobe(i, -1, theta[i].signum()) > floor && lobe(k, 1, theta[k].signum()) > floor {
+                    if zeros == 0 {
+                        let f = theta[i].abs() / (theta[i].abs() + theta[j].abs());
+                        found.push((i, f, JointKind::Smooth, BreakReason::Inflection));
+                    } else {
+                        found.push((j, 0.0, JointKind::Smooth, BreakReason::Inflection));
+                    }
                 }
             }
         }
