@@ -12,9 +12,10 @@
 //! * When at least a tenth of the pixels are mostly transparent (alpha below one half:
 //!   a logo or silhouette on a transparent background), the shape **is** the alpha:
 //!   coverage = alpha ([`AlphaRule`]; an opaque picture with a few transparent pixels or
-//!   rounded transparent corners traces its luminance). Colour is ignored, so a white logo on a transparent
-//!   background traces the same as a black one (the tempting alpha × (1 − luma) would make
-//!   white logos vanish). `invert` then traces the transparent part.
+//!   rounded transparent corners traces its luminance). Colour is ignored, so a white
+//!   logo on a transparent background traces the same as a black one (the tempting
+//!   alpha × (1 − luma) would make white logos vanish). `invert` then traces the
+//!   transparent part.
 //! * Otherwise coverage = 1 − luma (Rec. 601 for colour images; dark shapes on a light background), and `invert` makes it
 //!   luma (light shapes on dark).
 //!
