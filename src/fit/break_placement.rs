@@ -198,11 +198,17 @@ impl<'a> Fits<'a> {
             b.index,
             b.kind == JointKind::Smooth,
         );
-        if let Some(p) = self.pieces.borrow().get(&key) {
-            return summary(p, self.points, a.index, b.index);
+        if let Some(p) = self.pieces.borrow_mut().get_mut(&key) {
+            return summary(p, self.points, a.index, b.index, self.lsq.export_bound);
         }
-        let piece = fit_piece(self.points, a, b, self.lsq, &mut self.buf.borrow_mut());
-        let s = summary(&piece, self.points, a.index, b.index);
+        let mut piece = fit_piece(self.points, a, b, self.lsq, &mut self.buf.borrow_mut());
+        let s = summary(
+            &mut piece,
+            self.points,
+            a.index,
+            b.index,
+            self.lsq.export_bound,
+        );
         self.pieces.borrow_mut().insert(key, piece);
         s
     }
@@ -223,8 +229,14 @@ impl<'a> Fits<'a> {
     }
 }
 
-/// (Eq. 4 error, largest residual, SVG cubics) of a fitted piece.
-fn summary(piece: &Piece, points: &[Point], a: usize, b: usize) -> (f64, f64, usize) {
+/// (Eq. 4 error, largest residual, SVG cubics within `bound`) of a fitted piece.
+fn summary(
+    piece: &mut Piece,
+    points: &[Point],
+    a: usize,
+    b: usize,
+    bound: f64,
+) -> (f64, f64, usize) {
     let n = points.len();
     let sol = &piece.solution;
     let sum_sq = sol
@@ -234,7 +246,7 @@ fn summary(piece: &Piece, points: &[Point], a: usize, b: usize) -> (f64, f64, us
         .map(|(i, &u)| (sol.curve.eval(u) - points[(a + i) % n]).length_squared())
         .sum();
     debug_assert_eq!(sol.params.len(), (b + n - a) % n + 1);
-    (sum_sq, piece.max_residual, piece.pieces())
+    (sum_sq, piece.max_residual, piece.pieces(bound))
 }
 
 /// One stretch of a contour as an optimisation problem (see the module docs).

@@ -76,8 +76,10 @@ pub(super) struct Piece {
     /// Largest |P(u_i) − Q_i| at the fitted parameters (an upper bound of the true
     /// point-to-curve distance, used for split and merge decisions).
     pub(super) max_residual: f64,
-    /// The polynomial cubics the segment becomes in SVG.
-    pub(super) cubics: Vec<CubicBez>,
+    /// The polynomial cubics the segment becomes in SVG, once they were needed: only
+    /// merge decisions and the final segments need them, so a candidate that is split or
+    /// discarded never pays for them.
+    cubics: Option<Vec<CubicBez>>,
 }
 
 impl Piece {
@@ -89,13 +91,20 @@ impl Piece {
         Piece {
             solution,
             max_residual,
-            cubics,
+            cubics: Some(cubics),
         }
     }
 
-    /// Number of polynomial cubics the segment becomes in SVG.
-    pub(super) fn pieces(&self) -> usize {
-        self.cubics.len()
+    /// Makes the SVG cubics (within `bound`) if they are not there yet.
+    pub(super) fn ensure_cubics(&mut self, bound: f64) -> &[CubicBez] {
+        let curve = &self.solution.curve;
+        self.cubics
+            .get_or_insert_with(|| approximate_with_cubics(curve, bound))
+    }
+
+    /// Number of polynomial cubics the segment becomes in SVG (within `bound`).
+    pub(super) fn pieces(&mut self, bound: f64) -> usize {
+        self.ensure_cubics(bound).len()
     }
 }
 
@@ -214,11 +223,10 @@ pub(super) fn fit_piece(
     if max_residual >= poly_residual {
         return Piece::polynomial(poly, poly_residual);
     }
-    let cubics = approximate_with_cubics(&solution.curve, opts.export_bound);
     Piece {
         solution,
         max_residual,
-        cubics,
+        cubics: None,
     }
 }
 
@@ -329,10 +337,12 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
                     j += 1;
                     continue;
                 }
-                let candidate = fit(&joints[prev], &joints[next], &mut buf);
+                let mut candidate = fit(&joints[prev], &joints[next], &mut buf);
                 // Accept when within tolerance and not more SVG pieces than before.
+                let bound = opts.export_bound;
                 if candidate.max_residual > opts.tolerance
-                    || candidate.pieces() > pieces[prev].pieces() + pieces[j].pieces()
+                    || candidate.pieces(bound)
+                        > pieces[prev].pieces(bound) + pieces[j].pieces(bound)
                 {
                     failed.insert(key);
                 } else {
@@ -370,7 +380,8 @@ pub(super) fn assemble(
     let segments: Vec<FittedSegment> = pieces
         .into_iter()
         .enumerate()
-        .map(|(k, piece)| {
+        .map(|(k, mut piece)| {
+            piece.ensure_cubics(opts.export_bound);
             let started = Instant::now();
             let (a, b) = (joints[k].index, joints[(k + 1) % m].index);
             cyclic_run(points, a, b, &mut buf);
@@ -381,7 +392,11 @@ pub(super) fn assemble(
                 0.0
             };
             FittedSegment {
-                drawn: DrawnCubics::new(piece.solution.curve, opts.export_bound, piece.cubics),
+                drawn: DrawnCubics::new(
+                    piece.solution.curve,
+                    opts.export_bound,
+                    piece.cubics.unwrap_or_default(),
+                ),
                 curve: piece.solution.curve,
                 start: a,
                 end: b,
