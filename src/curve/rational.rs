@@ -82,6 +82,18 @@ impl RationalCubic {
 
     /// P(u), P'(u) and P''(u).
     pub fn jet(&self, u: f64) -> CurveJet {
+        if self.is_polynomial() {
+            // The denominator is 1 and its derivatives 0: skip them (most fitted segments
+            // are polynomial, and projections evaluate jets more than anything else).
+            let (b0, b1, b2) = (bernstein(u), bernstein_d1(u), bernstein_d2(u));
+            let c = &self.points;
+            let sum = |b: [f64; 4]| c[0] * b[0] + c[1] * b[1] + c[2] * b[2] + c[3] * b[3];
+            return CurveJet {
+                point: sum(b0),
+                d1: sum(b1),
+                d2: sum(b2),
+            };
+        }
         let w = self.all_weights();
         let (b0, b1, b2) = (bernstein(u), bernstein_d1(u), bernstein_d2(u));
         let mut n = [Point::ZERO; 3];
