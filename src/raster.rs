@@ -721,21 +721,16 @@ pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bit
         }
         // The `image` crate reads the first page (with its orientation); other pages, and
         // first pages it does not support (floating-point grey), go through `tiff`.
-        let first = (opts.frame == 0)
-            .then(|| decode_still(reader, limits, name, &check))
-            .transpose();
-        match first {
-            Ok(Some(img)) => (img, pages),
-            Err(Error::Decode {
+        let img = match (opts.frame == 0).then(|| decode_still(reader, limits, name, &check)) {
+            Some(Ok(img)) => img,
+            Some(Err(Error::Decode {
                 source: image::ImageError::Unsupported(_),
                 ..
-            })
-            | Ok(None) => (
-                frames::tiff_page(bytes, opts.frame, max_bytes, name, check)?,
-                pages,
-            ),
-            Err(e) => return Err(e),
-        }
+            }))
+            | None => frames::tiff_page(bytes, opts.frame, max_bytes, name, check)?,
+            Some(Err(e)) => return Err(e),
+        };
+        (img, pages)
     } else {
         if opts.frame > 0 {
             return Err(frames::out_of_range(opts.frame, 1));

@@ -380,8 +380,7 @@ pub(super) fn assemble(
     let segments: Vec<FittedSegment> = pieces
         .into_iter()
         .enumerate()
-        .map(|(k, mut piece)| {
-            piece.ensure_cubics(opts.export_bound);
+        .map(|(k, piece)| {
             let started = Instant::now();
             let (a, b) = (joints[k].index, joints[(k + 1) % m].index);
             cyclic_run(points, a, b, &mut buf);
@@ -395,7 +394,9 @@ pub(super) fn assemble(
                 drawn: DrawnCubics::new(
                     piece.solution.curve,
                     opts.export_bound,
-                    piece.cubics.unwrap_or_default(),
+                    piece.cubics.unwrap_or_else(|| {
+                        approximate_with_cubics(&piece.solution.curve, opts.export_bound)
+                    }),
                 ),
                 curve: piece.solution.curve,
                 start: a,
