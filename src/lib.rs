@@ -35,6 +35,7 @@ pub mod reduce;
 mod repair;
 pub mod report;
 pub mod stats;
+pub mod surface;
 
 pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};

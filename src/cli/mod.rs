@@ -6,6 +6,7 @@ mod compare;
 mod merge;
 mod output;
 mod reduce;
+mod surface;
 mod trace;
 
 use clap::builder::PossibleValuesParser;
@@ -60,6 +61,12 @@ enum Command {
     /// parameters; prints the reduced control points and the L2 error as JSON.
     #[command(after_help = EXIT_STATUS)]
     Reduce(reduce::ReduceArgs),
+    /// Fit a Bézier surface to a cloud of 3-D points (a grid or unorganized): parameters by
+    /// correction (default), the classical rules or cuckoo search, poles by least squares;
+    /// writes the poles and errors (JSON), a mesh (OBJ) and a picture (SVG). --rerun
+    /// repeats the surface paper's experiment.
+    #[command(after_help = EXIT_STATUS)]
+    Surface(surface::SurfaceArgs),
 }
 
 /// What a metaheuristic searches, as named on the command line.
@@ -347,6 +354,7 @@ pub(crate) fn run() -> anyhow::Result<i32> {
         Command::Reduce(args) => reduce::run(&args),
         Command::Bspline(args) => bspline::run(&args),
         Command::Merge(args) => merge::run(&args),
+        Command::Surface(args) => surface::run(&args),
     }
 }
 

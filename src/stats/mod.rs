@@ -18,12 +18,15 @@
 //! | Table 4, independent-group ANOVA | [`anova_oneway`] |
 //! | Table 5, F-test two-sample for variances | [`f_test`] |
 //! | Table 6, t-test two-sample assuming unequal variances | [`welch_t`] |
+//! | surface paper, Table 5, Wilcoxon signed-rank and rank-sum | [`wilcoxon_signed_rank`], [`wilcoxon_rank_sum`] |
 
 mod hypothesis;
 mod normality;
+mod rank;
 
 pub use hypothesis::{anova_oneway, f_test, welch_t, Anova, FTest, TTest};
 pub use normality::{lilliefors, shapiro_wilk, Normality};
+pub use rank::{wilcoxon_rank_sum, wilcoxon_signed_rank, RankSum, SignedRank};
 
 use serde::Serialize;
 
@@ -53,6 +56,16 @@ pub enum StatsError {
         max: usize,
         /// The number given.
         got: usize,
+    },
+    /// Paired samples of different lengths.
+    #[error("{what} needs paired samples of equal length, got {left} and {right} values")]
+    LengthMismatch {
+        /// The statistic or test.
+        what: &'static str,
+        /// Length of the first sample.
+        left: usize,
+        /// Length of the second sample.
+        right: usize,
     },
     /// A one-way ANOVA needs at least two groups.
     #[error("one-way ANOVA needs at least 2 groups, got {got}")]
