@@ -68,7 +68,7 @@ pub(crate) fn correct(fitter: &Fitter, cloud: &PointCloud, start: Params) -> Cor
         }
         let s2 = fitter.surface(&next);
         let y2 = fitter.error(&s2, &next);
-        if !(y2 < y) {
+        if y2.is_nan() || y2 >= y {
             break;
         }
         let gain = (y - y2) / y;
@@ -127,7 +127,7 @@ fn refine_line(
             gn += dot(&c1, &c1);
         }
         let curvature = if h > 0.0 { h } else { gn };
-        if !(curvature > 0.0) || g == 0.0 {
+        if curvature.is_nan() || curvature <= 0.0 || g == 0.0 {
             break;
         }
         let mut step = -g / curvature;
@@ -232,7 +232,7 @@ pub(crate) fn foot_point(surface: &BezierSurface, d: &P3, mut u: f64, mut v: f64
             (h11, h12, h22) = (a, b, c);
         }
         let det = h11 * h22 - h12 * h12;
-        if !(det > 0.0) {
+        if det.is_nan() || det <= 0.0 {
             break;
         }
         let mut du = -(h22 * gu - h12 * gv) / det;

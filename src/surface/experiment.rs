@@ -72,6 +72,9 @@ fn search_seed(seed: u64, example: Example, run: usize, method: ParamMethod) -> 
     mix(points_seed(seed, example, run) ^ (0x100 + method as u64))
 }
 
+/// One finished fit: example index, method index, run, Y, seconds, number of points.
+type Done = (usize, usize, usize, f64, f64, usize);
+
 /// Runs the experiment; `done` is called after each fit (for a progress bar).
 pub fn run(
     options: &ExperimentOptions,
@@ -95,7 +98,7 @@ pub fn run(
             t.2,
         )
     });
-    let results: Vec<Result<(usize, usize, usize, f64, f64, usize), Error>> = tasks
+    let results: Vec<Result<Done, Error>> = tasks
         .par_iter()
         .map(|&(e, m, run, example, method)| {
             let cloud = example.generate(points_seed(options.seed, example, run));
@@ -455,14 +458,13 @@ pub fn report(results: &[ExampleRuns], options: &ExperimentOptions) -> String {
             _ => None,
         };
         let mut cells: Vec<[String; 6]> = Vec::new();
-        for (ei, r) in results.iter().enumerate() {
+        for r in results {
             let other = &r.methods[mi].error;
             let cs = &r.methods[cs_index].error;
             let sr = wilcoxon_signed_rank(other, cs).ok();
             let rs = wilcoxon_rank_sum(other, cs).ok();
             let h = |p: f64| if p < 0.05 { "1" } else { "0" };
             let paper = paper_row.map(|row| PAPER_TABLE_5[row][r.example as usize]);
-            let _ = ei;
             let ours = [
                 sr.as_ref().map(|s| sci(s.p_value)).unwrap_or("n/a".into()),
                 sr.as_ref()

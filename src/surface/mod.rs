@@ -7,7 +7,7 @@
 //! surface at that point's parameters (Eq. 4 for grids, Eq. 5 for unorganized points). The
 //! unknowns split in two: the data parameters (τ, ζ) — one τ per row and one ζ per column
 //! of a grid, one (τ, ζ) per unorganized point — enter nonlinearly; for fixed parameters
-//! the poles are a linear least-squares problem ([`solve`](self) module, Eqs. 16–17).
+//! the poles are a linear least-squares problem (the `solve` module, Eqs. 16–17).
 //!
 //! The parameters come from one of [`ParamMethod`]:
 //! - the classical rules of §5.2, uniform, chordal and centripetal (`params` module);

@@ -50,7 +50,7 @@ pub fn to_svg(
         }
     }
     for k in 0..3 {
-        if !(hi[k] > lo[k]) {
+        if hi[k].is_nan() || hi[k] <= lo[k] {
             (lo[k], hi[k]) = (lo[k] - 0.5, hi[k] + 0.5);
         }
     }
