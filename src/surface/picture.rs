@@ -9,6 +9,8 @@ use plotters::prelude::*;
 const LINES: usize = 13;
 /// Samples along each line.
 const SAMPLES: usize = 60;
+/// Margin around the points' bounding box, as a fraction of its size per axis.
+const MARGIN: f64 = 0.15;
 
 fn drawing<E: std::fmt::Display>(e: E) -> PlotError {
     PlotError::Drawing(e.to_string())
@@ -41,9 +43,16 @@ pub fn to_svg(
         }
         None => Vec::new(),
     };
+    // The chart frames the points (with a margin); where the surface leaves that box — an
+    // unorganized fit is only held by its points, and between or beyond them a polynomial
+    // surface may swing far out — its lines are cut.
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points.iter().chain(wire.iter().flatten()) {
+    for p in points.iter().chain(if points.is_empty() {
+        wire.iter().flatten()
+    } else {
+        [].iter().flatten()
+    }) {
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
@@ -53,7 +62,19 @@ pub fn to_svg(
         if hi[k].is_nan() || hi[k] <= lo[k] {
             (lo[k], hi[k]) = (lo[k] - 0.5, hi[k] + 0.5);
         }
+        let margin = MARGIN * (hi[k] - lo[k]);
+        (lo[k], hi[k]) = (lo[k] - margin, hi[k] + margin);
     }
+    let inside = |p: &P3| (0..3).all(|k| p[k] >= lo[k] && p[k] <= hi[k]);
+    let pieces: Vec<Vec<P3>> = wire
+        .iter()
+        .flat_map(|line| {
+            line.split(|p| !inside(p))
+                .filter(|piece| piece.len() >= 2)
+                .map(|piece| piece.to_vec())
+                .collect::<Vec<_>>()
+        })
+        .collect();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (800, 700)).into_drawing_area();
@@ -76,7 +97,7 @@ pub fn to_svg(
             .draw()
             .map_err(drawing)?;
         let blue = RGBColor(0x1F, 0x77, 0xB4);
-        for line in &wire {
+        for line in &pieces {
             chart
                 .draw_series(LineSeries::new(
                     line.iter().map(|p| (p[0], p[2], p[1])),
