@@ -48,11 +48,12 @@ pub fn to_svg(
     // surface may swing far out — its lines are cut.
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points.iter().chain(if points.is_empty() {
-        wire.iter().flatten()
+    let framed: Vec<&P3> = if points.is_empty() {
+        wire.iter().flatten().collect()
     } else {
-        [].iter().flatten()
-    }) {
+        points.iter().collect()
+    };
+    for p in framed {
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
