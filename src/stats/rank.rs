@@ -92,12 +92,14 @@ pub fn wilcoxon_signed_rank(x: &[f64], y: &[f64]) -> Result<SignedRank, StatsErr
     let n = d.len();
     let abs: Vec<f64> = d.iter().map(|v| v.abs()).collect();
     let (r, ties) = ranks(&abs);
+    // `+ 0.0`: an empty float sum is −0.0.
     let w_plus: f64 = r
         .iter()
         .zip(&d)
         .filter(|(_, d)| **d > 0.0)
         .map(|(r, _)| r)
-        .sum();
+        .sum::<f64>()
+        + 0.0;
     let total = (n * (n + 1)) as f64 / 2.0;
     let w_minus = total - w_plus;
     let nf = n as f64;
@@ -262,5 +264,8 @@ mod tests {
             Err(StatsError::ZeroVariance { .. })
         ));
         assert!(wilcoxon_rank_sum(&[1.0, f64::NAN], &[1.0]).is_err());
+        // Every difference negative: W+ is 0 (not −0, which a report would print).
+        let t = wilcoxon_signed_rank(&[1.0, 2.0, 3.0], &[2.0, 4.0, 6.0]).unwrap();
+        assert!(t.w_plus == 0.0 && t.w_plus.is_sign_positive());
     }
 }

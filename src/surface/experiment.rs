@@ -423,7 +423,7 @@ pub fn report(results: &[ExampleRuns], options: &ExperimentOptions) -> String {
                 let _ = write!(out, " {} | {} |", sci(ours[k]), p);
             }
             let secs = m.seconds.iter().sum::<f64>() / m.seconds.len().max(1) as f64;
-            let _ = writeln!(out, " {secs:.3} |");
+            let _ = writeln!(out, " {secs:.4} |");
         }
         out.push('\n');
     }
