@@ -17,7 +17,7 @@
 //! variable-projection functional (the residual with the poles eliminated by least
 //! squares, Golub–Pereyra) follows and converges quadratically on exact data.
 
-use super::bezier::{bernstein, bernstein_jet, dot, sub, BezierSurface, P3};
+use super::bezier::{axpy, bernstein, bernstein_jet, dot, sub, BezierSurface, P3};
 use super::solve::Fitter;
 use super::{Params, PointCloud};
 use nalgebra::{DMatrix, DVector};
@@ -55,8 +55,8 @@ pub(crate) fn correct(fitter: &Fitter, cloud: &PointCloud, start: Params) -> Cor
         let mut next = params.clone();
         match cloud.grid {
             Some((m, n)) => {
-                refine_rows(&surface, cloud, m, n, &mut next);
-                refine_columns(&surface, cloud, m, n, &mut next);
+                refine_grid(&surface, cloud, (m, n), &mut next, Lines::Rows);
+                refine_grid(&surface, cloud, (m, n), &mut next, Lines::Columns);
             }
             None => {
                 for (k, d) in cloud.points.iter().enumerate() {
@@ -101,7 +101,7 @@ fn refine_line(
             .map(|k| {
                 let mut c = [0.0; 3];
                 for i in 0..k1 {
-                    super::bezier::axpy(&mut c, b[i], &ctrl[k * k1 + i]);
+                    axpy(&mut c, b[i], &ctrl[k * k1 + i]);
                 }
                 let r = sub(&target(k), &c);
                 dot(&r, &r)
@@ -117,9 +117,9 @@ fn refine_line(
             let (mut c, mut c1, mut c2) = ([0.0; 3], [0.0; 3], [0.0; 3]);
             for i in 0..k1 {
                 let p = &ctrl[k * k1 + i];
-                super::bezier::axpy(&mut c, b[i], p);
-                super::bezier::axpy(&mut c1, d1[i], p);
-                super::bezier::axpy(&mut c2, d2[i], p);
+                axpy(&mut c, b[i], p);
+                axpy(&mut c1, d1[i], p);
+                axpy(&mut c2, d2[i], p);
             }
             let r = sub(&target(k), &c);
             g -= dot(&r, &c1);
@@ -148,65 +148,56 @@ fn refine_line(
     t
 }
 
-/// New interior row parameters τ_p against `surface`.
-fn refine_rows(
-    surface: &BezierSurface,
-    cloud: &PointCloud,
-    m: usize,
-    n: usize,
-    params: &mut Params,
-) {
-    let (ku, kv) = (surface.degree_u + 1, surface.degree_v + 1);
-    // Column curves in u: G_q[i] = Σ_j Λ_ij b_j(ζ_q).
-    let mut ctrl = vec![[0.0; 3]; n * ku];
-    let mut bv = [0.0; 32];
-    for q in 0..n {
-        bernstein(surface.degree_v, params.zeta[q], &mut bv);
-        for i in 0..ku {
-            for j in 0..kv {
-                super::bezier::axpy(&mut ctrl[q * ku + i], bv[j], &surface.poles[i * kv + j]);
-            }
-        }
-    }
-    for p in 1..m - 1 {
-        params.tau[p] = refine_line(
-            surface.degree_u,
-            &ctrl,
-            n,
-            |q| cloud.points[p * n + q],
-            params.tau[p],
-        );
-    }
+/// Which parameters of a grid [`refine_grid`] moves.
+#[derive(Clone, Copy, PartialEq)]
+enum Lines {
+    /// One τ per row.
+    Rows,
+    /// One ζ per column.
+    Columns,
 }
 
-/// New interior column parameters ζ_q against `surface`.
-fn refine_columns(
+/// New interior row parameters τ_p (or column parameters ζ_q) against `surface`, the other
+/// direction's parameters held.
+fn refine_grid(
     surface: &BezierSurface,
     cloud: &PointCloud,
-    m: usize,
-    n: usize,
+    (m, n): (usize, usize),
     params: &mut Params,
+    lines: Lines,
 ) {
-    let (ku, kv) = (surface.degree_u + 1, surface.degree_v + 1);
-    // Row curves in v: R_p[j] = Σ_i Λ_ij b_i(τ_p).
-    let mut ctrl = vec![[0.0; 3]; m * kv];
-    let mut bu = [0.0; 32];
-    for p in 0..m {
-        bernstein(surface.degree_u, params.tau[p], &mut bu);
-        for i in 0..ku {
-            for j in 0..kv {
-                super::bezier::axpy(&mut ctrl[p * kv + j], bu[i], &surface.poles[i * kv + j]);
+    let kv = surface.degree_v + 1;
+    // Along the moved parameter: its degree, its values, the number of lines; across: the
+    // held degree, values and count.
+    let (deg, other_deg, other, count, across) = match lines {
+        Lines::Rows => (surface.degree_u, surface.degree_v, &params.zeta, m, n),
+        Lines::Columns => (surface.degree_v, surface.degree_u, &params.tau, n, m),
+    };
+    let pole = |along: usize, held: usize| match lines {
+        Lines::Rows => &surface.poles[along * kv + held],
+        Lines::Columns => &surface.poles[held * kv + along],
+    };
+    // One curve per crossing line, in the moved parameter: C_k[a] = Σ_h Λ(a, h) b_h(other_k).
+    let mut ctrl = vec![[0.0; 3]; across * (deg + 1)];
+    let mut b = [0.0; 32];
+    for k in 0..across {
+        bernstein(other_deg, other[k], &mut b);
+        for a in 0..=deg {
+            for h in 0..=other_deg {
+                axpy(&mut ctrl[k * (deg + 1) + a], b[h], pole(a, h));
             }
         }
     }
-    for q in 1..n - 1 {
-        params.zeta[q] = refine_line(
-            surface.degree_v,
-            &ctrl,
-            m,
-            |p| cloud.points[p * n + q],
-            params.zeta[q],
-        );
+    let point = |line: usize, k: usize| match lines {
+        Lines::Rows => cloud.points[line * n + k],
+        Lines::Columns => cloud.points[k * n + line],
+    };
+    for line in 1..count - 1 {
+        let values = match lines {
+            Lines::Rows => &mut params.tau,
+            Lines::Columns => &mut params.zeta,
+        };
+        values[line] = refine_line(deg, &ctrl, across, |k| point(line, k), values[line]);
     }
 }
 
