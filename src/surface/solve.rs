@@ -16,7 +16,7 @@
 
 use super::bezier::{axpy, bernstein, sub, BezierSurface, P3};
 use super::{Params, PointCloud};
-use nalgebra::{Cholesky, DMatrix, Dyn};
+use nalgebra::{Cholesky, DMatrix, DMatrixView, Dyn};
 
 /// Smallest ratio of the smallest to the largest squared Cholesky pivot accepted before
 /// falling back to the pseudo-inverse.
@@ -30,8 +30,6 @@ pub(crate) struct Fitter<'a> {
     norm2: f64,
     /// Grids only: the coordinates as three m × n matrices.
     grid_coords: Option<[DMatrix<f64>; 3]>,
-    /// Unorganized points only: the coordinates as a κ × 3 matrix.
-    scattered_coords: Option<DMatrix<f64>>,
 }
 
 /// The Bernstein values of degree `n` at each of `ts`, one row per parameter.
@@ -45,6 +43,19 @@ pub(crate) fn basis_matrix(n: usize, ts: &[f64]) -> DMatrix<f64> {
         }
     }
     m
+}
+
+/// The products b_i b_j (i ≤ j) of one point's basis values, row by row of the upper
+/// triangle, into `out` (of length n(n+1)/2 for n values).
+fn pair_products(b: &[f64], out: &mut [f64]) {
+    let mut rest = out;
+    for (i, &bi) in b.iter().enumerate() {
+        let (row, tail) = rest.split_at_mut(b.len() - i);
+        for (o, &bj) in row.iter_mut().zip(&b[i..]) {
+            *o = bi * bj;
+        }
+        rest = tail;
+    }
 }
 
 /// Cholesky factor of a symmetric positive definite matrix, or `None` when it is singular
@@ -69,16 +80,11 @@ impl<'a> Fitter<'a> {
             let coord = |c: usize| DMatrix::from_fn(m, n, |p, q| cloud.points[p * n + q][c]);
             [coord(0), coord(1), coord(2)]
         });
-        let scattered_coords = cloud
-            .grid
-            .is_none()
-            .then(|| DMatrix::from_fn(cloud.points.len(), 3, |r, c| cloud.points[r][c]));
         Fitter {
             cloud,
             degree,
             norm2,
             grid_coords,
-            scattered_coords,
         }
     }
 
@@ -140,42 +146,42 @@ impl<'a> Fitter<'a> {
             // A = Σ_p (b_u b_uᵀ) ⊗ (b_v b_vᵀ): with U2 and V2 holding each point's products
             // b_u,i b_u,i′ (i ≤ i′) and b_v,j b_v,j′ (j ≤ j′), every entry of A is an entry of
             // W = U2ᵀ V2, one matrix product (441 instead of 666 products per point at
-            // degree 5, and a blocked, vectorised kernel).
+            // degree 5, and a blocked, vectorised kernel). Both are filled one point at a
+            // time, contiguously, and handed to the kernel as strided views.
             let k = ku * kv;
             let (pu, pv) = (ku * (ku + 1) / 2, kv * (kv + 1) / 2);
             let n = self.cloud.points.len();
-            // Transposed (one column per point, filled contiguously) for the products below.
-            let mut u2 = DMatrix::zeros(pu, n);
-            let mut v2 = DMatrix::zeros(n, pv);
-            let mut xi = DMatrix::zeros(k, n);
+            let mut u2 = vec![0.0; n * pu];
+            let mut v2 = vec![0.0; n * pv];
+            // ΞᵀD, one row per pole, accumulated point by point in the order a
+            // matrix–vector product would.
+            let mut xd = vec![[0.0; 3]; k];
             let (mut bu, mut bv) = ([0.0; 32], [0.0; 32]);
-            for idx in 0..n {
-                bernstein(self.degree.0, params.tau[idx], &mut bu);
-                bernstein(self.degree.1, params.zeta[idx], &mut bv);
-                let col = &mut u2.as_mut_slice()[idx * pu..(idx + 1) * pu];
-                let mut c = 0;
-                for i in 0..ku {
-                    for i2 in i..ku {
-                        col[c] = bu[i] * bu[i2];
-                        c += 1;
-                    }
-                }
-                let mut c = 0;
-                for j in 0..kv {
-                    for j2 in j..kv {
-                        v2[(idx, c)] = bv[j] * bv[j2];
-                        c += 1;
-                    }
-                }
-                let col = &mut xi.as_mut_slice()[idx * k..(idx + 1) * k];
-                for i in 0..ku {
-                    for j in 0..kv {
-                        col[i * kv + j] = bu[i] * bv[j];
+            for (idx, (u2p, v2p)) in u2
+                .chunks_exact_mut(pu)
+                .zip(v2.chunks_exact_mut(pv))
+                .enumerate()
+            {
+                let (bu, bv) = (&mut bu[..ku], &mut bv[..kv]);
+                bernstein(self.degree.0, params.tau[idx], bu);
+                bernstein(self.degree.1, params.zeta[idx], bv);
+                pair_products(bu, u2p);
+                pair_products(bv, v2p);
+                let d = self.cloud.points[idx];
+                for (&bi, row) in bu.iter().zip(xd.chunks_exact_mut(kv)) {
+                    for (&bj, acc) in bv.iter().zip(row) {
+                        let xi = bi * bj;
+                        for (a, dc) in acc.iter_mut().zip(d) {
+                            *a += xi * dc;
+                        }
                     }
                 }
             }
-            let w = &u2 * &v2;
-            let b = &xi * self.scattered_coords.as_ref()?;
+            let b = DMatrix::from_fn(k, 3, |r, c| xd[r][c]);
+            // U2ᵀ is pu × n with one column per point; V2 is n × pv with one row per point.
+            let u2t = DMatrixView::from_slice(&u2, pu, n);
+            let v2m = DMatrixView::from_slice_with_strides(&v2, n, pv, pv, 1);
+            let w = u2t * v2m;
             let pair = |a: usize, b: usize, size: usize| {
                 let (a, b) = if a <= b { (a, b) } else { (b, a) };
                 a * size - a * (a + 1) / 2 + b
