@@ -35,6 +35,7 @@
 //! of that depth even if it misses the bound. Curves with non-finite coordinates produce
 //! non-finite cubics rather than an error; callers that write files check for that.
 
+use super::rational::CONVERGED_STEP;
 use super::RationalCubic;
 use crate::geom::Point;
 
@@ -121,7 +122,7 @@ impl CubicBez {
             } else {
                 -g / d1.length_squared().max(1e-12)
             };
-            if !step.is_finite() || step.abs() < 1e-15 {
+            if !step.is_finite() || step.abs() < CONVERGED_STEP {
                 break;
             }
             let mut factor = 1.0;

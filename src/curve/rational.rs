@@ -9,6 +9,10 @@
 use crate::geom::Point;
 use serde::{Deserialize, Serialize};
 
+/// Newton steps on the parameter shorter than this end a projection: on a segment of
+/// 1000 px they move the foot by 1e-7 px.
+pub(crate) const CONVERGED_STEP: f64 = 1e-10;
+
 /// Cubic Bernstein basis values at `u`.
 #[inline]
 pub fn bernstein(u: f64) -> [f64; 4] {
@@ -200,6 +204,11 @@ impl RationalCubic {
                 -g / jet.d1.length_squared().max(1e-12)
             };
             let un = (u + step).clamp(0.0, 1.0);
+            if (un - u).abs() <= CONVERGED_STEP {
+                // Converged: a further step moves the foot by less than round-off of
+                // pixel coordinates and would cost another evaluation.
+                break;
+            }
             let jn = self.jet(un);
             let dn = (jn.point - q).length_squared();
             if dn > d2 {
@@ -216,15 +225,28 @@ impl RationalCubic {
     /// parameters picks the start, Newton refines it, and both ends are checked.
     /// Returns `(u, distance)`.
     pub fn nearest(&self, q: Point, samples: usize) -> (f64, f64) {
+        self.nearest_in_scan(&self.scan(samples), q)
+    }
+
+    /// The curve at `samples + 1` evenly spaced parameters (at least 3), for
+    /// [`RationalCubic::nearest_in_scan`]: many points projected onto one curve share it.
+    pub fn scan(&self, samples: usize) -> Vec<Point> {
         let samples = samples.max(2);
+        (0..=samples)
+            .map(|j| self.eval(j as f64 / samples as f64))
+            .collect()
+    }
+
+    /// [`RationalCubic::nearest`] with the scan made beforehand by [`RationalCubic::scan`].
+    pub fn nearest_in_scan(&self, scan: &[Point], q: Point) -> (f64, f64) {
+        let samples = scan.len() - 1;
         let mut best_u = 0.0;
         let mut best_d = f64::INFINITY;
-        for j in 0..=samples {
-            let u = j as f64 / samples as f64;
-            let d = (self.eval(u) - q).length_squared();
+        for (j, p) in scan.iter().enumerate() {
+            let d = (*p - q).length_squared();
             if d < best_d {
                 best_d = d;
-                best_u = u;
+                best_u = j as f64 / samples as f64;
             }
         }
         self.refine_projection(q, best_u)

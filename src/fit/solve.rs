@@ -1086,10 +1086,11 @@ pub fn segment_error(curve: &RationalCubic, points: &[Point], params: &[f64]) ->
     let mut sum_sq = 0.0;
     let mut max_d: f64 = 0.0;
     let mut sum_d = 0.0;
+    let scan = curve.scan(24);
     for (q, &u) in points.iter().zip(params) {
         sum_sq += (curve.eval(u) - *q).length_squared();
         let local = curve.refine_projection(*q, u).1;
-        let global = curve.nearest(*q, 24).1;
+        let global = curve.nearest_in_scan(&scan, *q).1;
         let d = local.min(global);
         max_d = max_d.max(d);
         sum_d += d;
