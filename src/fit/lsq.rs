@@ -13,7 +13,9 @@
 //!    within tolerance, so the outline keeps few segments. A closed contour keeps at least
 //!    two segments.
 
-use super::solve::{fit_segment, segment_error, EndCondition, FitSettings, SegmentSolution};
+use super::solve::{
+    fit_segment, fit_segment_from, segment_error, EndCondition, FitSettings, SegmentSolution,
+};
 use super::{DrawnCubics, FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::{arc_lengths, SegmentedContour};
 use crate::curve::{approximate_with_cubics, CubicBez};
@@ -218,7 +220,13 @@ pub(super) fn fit_piece(
     if poly_residual <= opts.tolerance || poly_residual > 4.0 * opts.tolerance {
         return Piece::polynomial(poly, poly_residual);
     }
-    let solution = fit_segment(buf, start, end, &search);
+    // Start from the polynomial fit's feet, which are close to the rational curve's:
+    // one round of parameter correction then does what two do from centripetal ones.
+    let warm = FitSettings {
+        reparam_rounds: 1,
+        ..search
+    };
+    let solution = fit_segment_from(buf, start, end, &warm, Some(&poly.params));
     let max_residual = residual(&solution);
     if max_residual >= poly_residual {
         return Piece::polynomial(poly, poly_residual);

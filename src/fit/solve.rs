@@ -637,6 +637,19 @@ pub fn fit_segment(
     end: EndCondition,
     settings: &FitSettings,
 ) -> SegmentSolution {
+    fit_segment_from(points, start, end, settings, None)
+}
+
+/// [`fit_segment`] started from given data parameters (one per point, increasing from 0
+/// to 1, e.g. the feet of the points on an earlier fit of the same run) instead of the
+/// rules of `settings.initial`: close parameters need fewer correction rounds.
+pub fn fit_segment_from(
+    points: &[Point],
+    start: EndCondition,
+    end: EndCondition,
+    settings: &FitSettings,
+    warm: Option<&[f64]>,
+) -> SegmentSolution {
     let mut params = centripetal_parameters(points);
     if points.len() < 3 {
         let (c0, c3) = (points[0], points[points.len() - 1]);
@@ -662,9 +675,21 @@ pub fn fit_segment(
     let centripetal = params.clone();
     let mut evaluations = 0;
     let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
-    let mut initial = Vec::with_capacity(points.len());
-    for &rule in settings.initial {
-        parameters_into(points, rule, &mut initial);
+    let warm = warm.filter(|w| w.len() == points.len());
+    let rules = if warm.is_some() {
+        &[][..]
+    } else {
+        settings.initial
+    };
+    let mut scratch = Vec::with_capacity(points.len());
+    let inits = warm
+        .map(<[f64]>::to_vec)
+        .into_iter()
+        .chain(rules.iter().map(|&rule| {
+            parameters_into(points, rule, &mut scratch);
+            scratch.clone()
+        }));
+    for initial in inits {
         if settings.fixed_weights() {
             runs.push((initial.clone(), [settings.weight_range.0; 2]));
             continue;
