@@ -216,24 +216,41 @@ impl EdgeGrid {
     }
 
     /// Nearest edge to `p` within `reach` px (of contour `only`, if given): distance and
-    /// contour, or `None` when there is none that close.
+    /// contour, or `None` when there is none that close. Cells are searched ring by ring
+    /// outwards from `p`'s own, and the search stops once the best distance found is
+    /// below what any further ring could hold: ring j lies at least (j − 1) cells away.
     fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, u32)> {
         let c = (p.x / self.cell).floor() as i64;
         let r = (p.y / self.cell).floor() as i64;
         let k = (reach / self.cell).ceil() as i64;
         let mut best: Option<(f64, u32)> = None;
-        for row in (r - k).max(0)..=(r + k).min(self.rows - 1) {
-            for col in (c - k).max(0)..=(c + k).min(self.cols - 1) {
-                let cell = (row * self.cols + col) as usize;
-                for &i in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
-                    let e = self.edges[i as usize];
-                    if only.is_some_and(|o| o != e.contour) {
-                        continue;
+        for ring in 0..=k {
+            if best.is_some_and(|(d, _)| d <= (ring - 1) as f64 * self.cell) {
+                break;
+            }
+            for row in (r - ring).max(0)..=(r + ring).min(self.rows - 1) {
+                // The ring's cells on this row: all of it on the top and bottom rows, its
+                // two ends otherwise.
+                let edge_row = (row - r).abs() == ring;
+                let step = if edge_row { 1 } else { (2 * ring).max(1) };
+                let mut col = c - ring;
+                while col <= c + ring {
+                    if col >= 0 && col < self.cols {
+                        let cell = (row * self.cols + col) as usize;
+                        let items =
+                            &self.items[self.start[cell] as usize..self.start[cell + 1] as usize];
+                        for &i in items {
+                            let e = self.edges[i as usize];
+                            if only.is_some_and(|o| o != e.contour) {
+                                continue;
+                            }
+                            let d = segment_distance(p, e.a, e.b);
+                            if d <= reach && best.is_none_or(|(bd, _)| d < bd) {
+                                best = Some((d, e.contour));
+                            }
+                        }
                     }
-                    let d = segment_distance(p, e.a, e.b);
-                    if d <= reach && best.is_none_or(|(bd, _)| d < bd) {
-                        best = Some((d, e.contour));
-                    }
+                    col += step;
                 }
             }
         }
