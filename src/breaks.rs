@@ -110,8 +110,9 @@ fn point_at(points: &[Point], s: &[f64], total: f64, hint: usize, target: f64) -
     let mut i = hint;
     let seg_end = |i: usize| if i + 1 < n { s[i + 1] } else { total };
     let mut guard = 0;
+    // Walking towards t never passes it, so the shorter way round stays the same.
+    let forward = (t - s[i]).rem_euclid(total) < total / 2.0;
     while !(s[i] <= t && t < seg_end(i)) && guard < n {
-        let forward = (t - s[i]).rem_euclid(total) < total / 2.0;
         i = if forward {
             (i + 1) % n
         } else {
