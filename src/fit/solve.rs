@@ -124,6 +124,14 @@ struct LinearModel<'a> {
     len_bounds: (f64, f64),
 }
 
+/// The length scale of a run of points, which bounds its tangent lengths: the longer of
+/// its polyline and its chord (at least 1e-9).
+fn run_scale(points: &[Point]) -> f64 {
+    let chord = points[0].distance(points[points.len() - 1]);
+    let poly: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
+    poly.max(chord).max(1e-9)
+}
+
 /// Unknowns of the linear model: up to 4 numbers.
 #[derive(Clone, Copy, Debug)]
 struct Unknowns {
@@ -133,10 +141,18 @@ struct Unknowns {
 
 impl<'a> LinearModel<'a> {
     fn new(points: &'a [Point], params: &[f64], start: EndCondition, end: EndCondition) -> Self {
+        Self::with_scale(points, params, start, end, run_scale(points))
+    }
+
+    /// [`LinearModel::new`] with the run's [`run_scale`] already known.
+    fn with_scale(
+        points: &'a [Point],
+        params: &[f64],
+        start: EndCondition,
+        end: EndCondition,
+        scale: f64,
+    ) -> Self {
         let bern = params.iter().map(|&u| bernstein(u)).collect();
-        let chord = points[0].distance(points[points.len() - 1]);
-        let poly: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
-        let scale = poly.max(chord).max(1e-9);
         LinearModel {
             points,
             bern,
@@ -673,6 +689,7 @@ pub fn fit_segment_from(
         };
     }
     let centripetal = params.clone();
+    let scale = run_scale(points);
     let mut evaluations = 0;
     let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
     let warm = warm.filter(|w| w.len() == points.len());
@@ -694,7 +711,7 @@ pub fn fit_segment_from(
             runs.push((initial.clone(), [settings.weight_range.0; 2]));
             continue;
         }
-        let model = LinearModel::new(points, &initial, start, end);
+        let model = LinearModel::with_scale(points, &initial, start, end, scale);
         let (starts, ev) = grid_starts(&model, settings.weight_range, settings.starts.max(1));
         evaluations += ev;
         runs.extend(starts.into_iter().map(|w| (initial.clone(), w)));
@@ -706,7 +723,7 @@ pub fn fit_segment_from(
         let mut curve;
         let mut round = 0;
         loop {
-            let model = LinearModel::new(points, &params, start, end);
+            let model = LinearModel::with_scale(points, &params, start, end, scale);
             if !settings.fixed_weights() {
                 // Later rounds only adjust: the parameters moved a little.
                 let step = if round == 0 { 0.5 } else { 0.1 };
@@ -726,7 +743,7 @@ pub fn fit_segment_from(
         // Leave the parameters at the feet of the points, so that residuals are distances.
         reproject(&curve, points, &mut params);
         if settings.polish_iterations > 0 {
-            let model = LinearModel::new(points, &params, start, end);
+            let model = LinearModel::with_scale(points, &params, start, end, scale);
             let (polished, ev) = polish(&model, curve, &mut params, settings);
             curve = polished;
             evaluations += ev;
