@@ -98,8 +98,11 @@ pub fn run(
             t.2,
         )
     });
+    // One task per work item: with the default splitting a thread takes a run of tasks
+    // in a row, and the last long searches then run one after another on one core.
     let results: Vec<Result<Done, Error>> = tasks
         .par_iter()
+        .with_max_len(1)
         .map(|&(e, m, run, example, method)| {
             let cloud = example.generate(points_seed(options.seed, example, run));
             let fitted = fit(
