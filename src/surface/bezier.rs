@@ -7,34 +7,6 @@ use serde::Serialize;
 /// the triangular recurrence B_k^j = (1 − t) B_k^{j−1} + t B_{k−1}^{j−1} (no binomials,
 /// no powers; stable on [0, 1]).
 pub fn bernstein(n: usize, t: f64, out: &mut [f64]) {
-    // The paper's degrees with a constant bound, so that the loops unroll; the same
-    // operations in the same order as the general case.
-    match n {
-        5 => bernstein_upto::<5>(t, out),
-        9 => bernstein_upto::<9>(t, out),
-        _ => bernstein_general(n, t, out),
-    }
-}
-
-/// [`bernstein`] for the degree `N` known at compile time.
-#[inline]
-fn bernstein_upto<const N: usize>(t: f64, out: &mut [f64]) {
-    let out = &mut out[..=N];
-    let s = 1.0 - t;
-    out[0] = 1.0;
-    for j in 1..=N {
-        let mut saved = 0.0;
-        for k in 0..j {
-            let b = out[k];
-            out[k] = saved + s * b;
-            saved = t * b;
-        }
-        out[j] = saved;
-    }
-}
-
-/// [`bernstein`] for any degree.
-fn bernstein_general(n: usize, t: f64, out: &mut [f64]) {
     let s = 1.0 - t;
     out[0] = 1.0;
     for j in 1..=n {
