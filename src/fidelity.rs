@@ -228,33 +228,36 @@ impl EdgeGrid {
             if best.is_some_and(|(d, _)| d <= (ring - 1) as f64 * self.cell) {
                 break;
             }
-            for row in (r - ring).max(0)..=(r + ring).min(self.rows - 1) {
+            for row in r - ring..=r + ring {
                 // The ring's cells on this row: all of it on the top and bottom rows, its
                 // two ends otherwise.
-                let edge_row = (row - r).abs() == ring;
-                let step = if edge_row { 1 } else { (2 * ring).max(1) };
-                let mut col = c - ring;
-                while col <= c + ring {
-                    if col >= 0 && col < self.cols {
-                        let cell = (row * self.cols + col) as usize;
-                        let items =
-                            &self.items[self.start[cell] as usize..self.start[cell + 1] as usize];
-                        for &i in items {
-                            let e = self.edges[i as usize];
-                            if only.is_some_and(|o| o != e.contour) {
-                                continue;
-                            }
-                            let d = segment_distance(p, e.a, e.b);
-                            if d <= reach && best.is_none_or(|(bd, _)| d < bd) {
-                                best = Some((d, e.contour));
-                            }
+                let step = if (row - r).abs() == ring { 1 } else { 2 * ring };
+                for col in (c - ring..=c + ring).step_by(step.max(1) as usize) {
+                    for e in self.cell_edges(row, col) {
+                        if only.is_some_and(|o| o != e.contour) {
+                            continue;
+                        }
+                        let d = segment_distance(p, e.a, e.b);
+                        if d <= reach && best.is_none_or(|(bd, _)| d < bd) {
+                            best = Some((d, e.contour));
                         }
                     }
-                    col += step;
                 }
             }
         }
         best
+    }
+
+    /// The edges listed in cell (`row`, `col`); none outside the grid.
+    fn cell_edges(&self, row: i64, col: i64) -> impl Iterator<Item = &Edge> {
+        let inside = (0..self.rows).contains(&row) && (0..self.cols).contains(&col);
+        let items = if inside {
+            let cell = (row * self.cols + col) as usize;
+            &self.items[self.start[cell] as usize..self.start[cell + 1] as usize]
+        } else {
+            &[]
+        };
+        items.iter().map(|&i| &self.edges[i as usize])
     }
 
     /// True when some edge lies within `reach` px of `p` (stops at the first).
@@ -264,12 +267,11 @@ impl EdgeGrid {
         let k = (reach / self.cell).ceil() as i64;
         for row in (r - k).max(0)..=(r + k).min(self.rows - 1) {
             for col in (c - k).max(0)..=(c + k).min(self.cols - 1) {
-                let cell = (row * self.cols + col) as usize;
-                for &i in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
-                    let e = self.edges[i as usize];
-                    if segment_distance(p, e.a, e.b) <= reach {
-                        return true;
-                    }
+                if self
+                    .cell_edges(row, col)
+                    .any(|e| segment_distance(p, e.a, e.b) <= reach)
+                {
+                    return true;
                 }
             }
         }

@@ -225,7 +225,10 @@ impl RationalCubic {
     /// parameters picks the start, Newton refines it, and both ends are checked.
     /// Returns `(u, distance)`.
     pub fn nearest(&self, q: Point, samples: usize) -> (f64, f64) {
-        self.nearest_in_scan(&self.scan(samples), q)
+        let samples = samples.max(2);
+        // (A half-open range: it knows its length.)
+        let scan = (0..samples + 1).map(|j| self.eval(j as f64 / samples as f64));
+        self.nearest_among(scan, q)
     }
 
     /// The curve at `samples + 1` evenly spaced parameters (at least 3), for
@@ -239,11 +242,16 @@ impl RationalCubic {
 
     /// [`RationalCubic::nearest`] with the scan made beforehand by [`RationalCubic::scan`].
     pub fn nearest_in_scan(&self, scan: &[Point], q: Point) -> (f64, f64) {
+        self.nearest_among(scan.iter().copied(), q)
+    }
+
+    /// Newton from the nearest of `scan`, the curve at evenly spaced parameters from 0 to 1.
+    fn nearest_among(&self, scan: impl ExactSizeIterator<Item = Point>, q: Point) -> (f64, f64) {
         let samples = scan.len() - 1;
         let mut best_u = 0.0;
         let mut best_d = f64::INFINITY;
-        for (j, p) in scan.iter().enumerate() {
-            let d = (*p - q).length_squared();
+        for (j, p) in scan.enumerate() {
+            let d = (p - q).length_squared();
             if d < best_d {
                 best_d = d;
                 best_u = j as f64 / samples as f64;

@@ -692,20 +692,18 @@ pub fn fit_segment_from(
     let scale = run_scale(points);
     let mut evaluations = 0;
     let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
-    let warm = warm.filter(|w| w.len() == points.len());
-    let rules = if warm.is_some() {
-        &[][..]
-    } else {
-        settings.initial
+    let inits: Vec<Vec<f64>> = match warm.filter(|w| w.len() == points.len()) {
+        Some(w) => vec![w.to_vec()],
+        None => settings
+            .initial
+            .iter()
+            .map(|&rule| {
+                let mut p = Vec::with_capacity(points.len());
+                parameters_into(points, rule, &mut p);
+                p
+            })
+            .collect(),
     };
-    let mut scratch = Vec::with_capacity(points.len());
-    let inits = warm
-        .map(<[f64]>::to_vec)
-        .into_iter()
-        .chain(rules.iter().map(|&rule| {
-            parameters_into(points, rule, &mut scratch);
-            scratch.clone()
-        }));
     for initial in inits {
         if settings.fixed_weights() {
             runs.push((initial.clone(), [settings.weight_range.0; 2]));
