@@ -5,16 +5,16 @@
 //! [`crate::fidelity`]'s repairs can trace a border again from its pixels alone):
 //!
 //! 1. **Topology.** The thresholded mask, padded by one pixel of background on every side
-//!    so that shapes touching the image edge get closed borders, goes through
-//!    `imageproc::contours::find_contours` (Suzuki and Abe's border following:
-//!    8-connected foreground, 4-connected background). It gives every border's kind (outer
-//!    or hole), its parent and its first pixel. Before that, ambiguous diagonal pixel
-//!    pairs are decided by the colour in the minority around them
-//!    (`resolve_diagonals`, potrace's "minority" turn policy), so that a light line
-//!    thinner than a pixel is not cut into one-pixel holes.
-//! 2. **Crack loops.** From that first pixel each border is re-traced along the pixel edges
-//!    ("cracks") that separate its foreground component from the adjacent background
-//!    component, keeping the foreground on the right. On screen (y down) outer loops then run
+//!    so that shapes touching the image edge get closed borders, is scanned row by row
+//!    (`mask::PaddedMask::borders`, the borders of Suzuki and Abe's border following:
+//!    8-connected foreground, 4-connected background), giving every border's kind (outer
+//!    or hole) and parent in the same order as their algorithm, without its label per
+//!    pixel. Before that, ambiguous diagonal pixel pairs are decided by the colour in the
+//!    minority around them (`resolve_diagonals`, potrace's "minority" turn policy), so
+//!    that a light line thinner than a pixel is not cut into one-pixel holes.
+//! 2. **Crack loops.** Each border is a closed loop of pixel edges ("cracks") that
+//!    separate its foreground component from the adjacent background component, kept
+//!    with the foreground on the right. On screen (y down) outer loops then run
 //!    clockwise (`geom::signed_area` > 0) and holes counter-clockwise. Each crack lies
 //!    between a foreground and a background pixel; its midpoint is where marching squares
 //!    would put the edge of a 0/1 image.
@@ -100,9 +100,10 @@
 use crate::error::{Error, Result};
 use crate::geom::{distance_to_closed_polyline, signed_area, Point};
 use crate::raster::Bitmap;
-use image::GrayImage;
-use imageproc::contours::{find_contours, BorderType};
+use mask::{Crack, PaddedMask};
 use serde::Serialize;
+
+mod mask;
 
 /// Half-width (px) of the window along the normal over which coverage is integrated.
 const HALF_WINDOW: f64 = 2.0;
@@ -241,179 +242,16 @@ enum EdgeEstimator {
     LevelCrossing,
 }
 
-/// One pixel edge between a foreground and a background pixel, in image coordinates.
-#[derive(Clone, Copy, Debug)]
-struct Crack {
-    /// The foreground pixel (column, row) in image coordinates.
-    inside: (i64, i64),
-    /// Midpoint of the pixel edge.
-    mid: Point,
-    /// Unit normal from the foreground pixel to the background pixel.
-    normal: Point,
-}
-
-/// Directions on the vertex grid: east, south, west, north (clockwise on screen).
-const DIRS: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
-
-/// The pixels to the right and to the left of the crack leaving vertex (x, y) in direction
-/// `d`.
-#[inline]
-fn side_pixels(x: i64, y: i64, d: usize) -> ((i64, i64), (i64, i64)) {
-    match d {
-        0 => ((x, y), (x, y - 1)),
-        1 => ((x - 1, y), (x, y)),
-        2 => ((x - 1, y - 1), (x - 1, y)),
-        _ => ((x, y - 1), (x - 1, y - 1)),
-    }
-}
-
-/// Half-width (pixels) of the window in which [`resolve_diagonals`] counts the majority.
-const DIAGONAL_WINDOW: usize = 2;
-
-/// Ambiguous diagonals, decided like potrace's "minority" turn policy. Where two
-/// background pixels touch only at a corner between two foreground pixels, the border
-/// follower (8-connected foreground, 4-connected background) always joins the foreground
-/// and cuts the background apart, so a thin light line across a dark shape (a diagonal
-/// cut, a gap thinner than a pixel) falls apart into one-pixel holes that `min_area`
-/// drops. Here the colour in the minority around the pair wins: where the background is
-/// the minority, the fainter of the two foreground pixels becomes background and the
-/// light line stays connected. Dark lines on light (the foreground in the minority) keep
-/// the border follower's choice.
-fn resolve_diagonals(data: &mut [u8], width: usize, height: usize, bitmap: &Bitmap) {
-    if width < 2 * DIAGONAL_WINDOW + 2 || height < 2 * DIAGONAL_WINDOW + 2 {
-        return;
-    }
-    let fg = |data: &[u8], c: usize, r: usize| data[r * width + c] != 0;
-    let mut flips = Vec::new();
-    for r in 1..height - 2 {
-        for c in 1..width - 2 {
-            let (a, b) = (fg(data, c, r), fg(data, c + 1, r));
-            let (d, e) = (fg(data, c, r + 1), fg(data, c + 1, r + 1));
-            // Background on one diagonal, foreground on the other.
-            let pair = match (a, b, d, e) {
-                (false, true, true, false) => [(c + 1, r), (c, r + 1)],
-                (true, false, false, true) => [(c, r), (c + 1, r + 1)],
-                _ => continue,
-            };
-            let (r0, r1) = (
-                r.saturating_sub(DIAGONAL_WINDOW - 1),
-                (r + 1 + DIAGONAL_WINDOW).min(height - 1),
-            );
-            let (c0, c1) = (
-                c.saturating_sub(DIAGONAL_WINDOW - 1),
-                (c + 1 + DIAGONAL_WINDOW).min(width - 1),
-            );
-            let (mut ink, mut all) = (0, 0);
-            for rr in r0..=r1 {
-                for cc in c0..=c1 {
-                    ink += usize::from(fg(data, cc, rr));
-                    all += 1;
-                }
-            }
-            if 2 * ink <= all {
-                continue;
-            }
-            // Padded coordinates → image pixels.
-            let cov = |(cc, rr): (usize, usize)| bitmap.coverage_at(cc as i64 - 1, rr as i64 - 1);
-            let faint = if cov(pair[0]) <= cov(pair[1]) {
-                pair[0]
-            } else {
-                pair[1]
-            };
-            flips.push(faint);
-        }
-    }
-    for (c, r) in flips {
-        data[r * width + c] = 0;
-    }
-}
-
-/// The padded binary mask: 1 pixel of background around the image.
-struct PaddedMask {
-    width: i64,
-    height: i64,
-    /// 255 for foreground, 0 for background; also what `find_contours` reads.
-    image: GrayImage,
-}
-
-impl PaddedMask {
-    /// `None` only if the padded size overflows (callers check the size first).
-    fn new(bitmap: &Bitmap) -> Option<PaddedMask> {
-        let (w, h) = (bitmap.width as usize, bitmap.height as usize);
-        let pw = w + 2;
-        let mut data = vec![0u8; pw * (h + 2)];
-        let t = bitmap.threshold();
-        for (r, row) in bitmap.coverage().chunks_exact(w).enumerate() {
-            let dst = &mut data[(r + 1) * pw + 1..(r + 1) * pw + 1 + w];
-            for (d, &v) in dst.iter_mut().zip(row) {
-                *d = if f64::from(v) >= t { 255 } else { 0 };
-            }
-        }
-        resolve_diagonals(&mut data, pw, h + 2, bitmap);
-        let image =
-            GrayImage::from_raw(u32::try_from(pw).ok()?, bitmap.height.checked_add(2)?, data)?;
-        Some(PaddedMask {
-            width: pw as i64,
-            height: h as i64 + 2,
-            image,
-        })
-    }
-
-    #[inline]
-    fn is_foreground(&self, (x, y): (i64, i64)) -> bool {
-        x >= 0
-            && y >= 0
-            && x < self.width
-            && y < self.height
-            && self.image.as_raw()[(y * self.width + x) as usize] != 0
-    }
-
-    /// Follows the crack loop that starts by leaving vertex `start` in direction `dir`,
-    /// with the foreground on the right, and appends its cracks (in image coordinates) to
-    /// `out`.
-    fn trace(&self, start: (i64, i64), dir: usize, out: &mut Vec<Crack>) {
-        out.clear();
-        let (mut x, mut y, mut d) = (start.0, start.1, dir);
-        // Every crack is visited at most once per loop.
-        let limit = 4 * self.width * self.height + 4;
-        for _ in 0..limit {
-            let (dx, dy) = DIRS[d];
-            let (lx, ly) = DIRS[(d + 3) % 4];
-            let ((rx, ry), _) = side_pixels(x, y, d);
-            out.push(Crack {
-                inside: (rx - 1, ry - 1),
-                mid: Point::new(
-                    x as f64 + 0.5 * dx as f64 - 1.0,
-                    y as f64 + 0.5 * dy as f64 - 1.0,
-                ),
-                normal: Point::new(lx as f64, ly as f64),
-            });
-            x += dx;
-            y += dy;
-            let (right, left) = side_pixels(x, y, d);
-            d = if self.is_foreground(left) {
-                (d + 3) % 4
-            } else if self.is_foreground(right) {
-                d
-            } else {
-                (d + 1) % 4
-            };
-            if (x, y, d) == (start.0, start.1, dir) {
-                return;
-            }
-        }
-    }
-}
 
 /// Extracts the contours of the foreground of `bitmap`.
 ///
-/// Returns outer borders, holes and islands in the order `find_contours` finds them (a
-/// parent always comes before its children), with sub-pixel points as described in the
+/// Returns outer borders, holes and islands in the order of their first pixel edge in a
+/// raster scan (a parent always comes before its children), with sub-pixel points as described in the
 /// module docs. An image with no foreground gives an empty list.
 ///
 /// Errors: [`Error::InvalidOption`] when `min_area` is negative or not finite, or when the
 /// bitmap's public `width`/`height` were changed so that they no longer match its
-/// coverage, or exceed 2³¹ − 3.
+/// coverage.
 pub fn extract_contours(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Vec<Contour>> {
     Ok(extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)?.contours)
 }
@@ -424,7 +262,7 @@ pub fn extract_contours(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Vec<Co
 pub(crate) struct Extraction {
     /// What [`extract_contours`] returns.
     pub(crate) contours: Vec<Contour>,
-    /// Every border found, kept or dropped, in `find_contours` order.
+    /// Every border found, kept or dropped, in raster-scan order.
     pub(crate) borders: Vec<Border>,
     /// Index into `borders` of each contour.
     pub(crate) border_of: Vec<usize>,
@@ -595,7 +433,7 @@ fn extract_with(
         });
     }
     let (w, h) = (bitmap.width as usize, bitmap.height as usize);
-    let mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
+    let mut mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
         name: "bitmap",
         message: "cannot build the padded mask".to_string(),
     })?;
@@ -608,42 +446,25 @@ fn extract_with(
     if w == 0 || h == 0 {
         return Ok(empty(mask));
     }
-    if bitmap.coverage().len() as u64 != w as u64 * h as u64 {
+    if bitmap.stored_pixels() as u64 != w as u64 * h as u64 {
         return Err(Error::InvalidOption {
             name: "bitmap",
             message: format!(
                 "{}×{} does not match its {} coverage values",
                 w,
                 h,
-                bitmap.coverage().len()
+                bitmap.stored_pixels()
             ),
         });
     }
-    // imageproc's border follower works in i32 coordinates.
-    let coord_limit = i32::MAX as usize - 2;
-    if w > coord_limit || h > coord_limit {
-        return Err(Error::InvalidOption {
-            name: "bitmap",
-            message: format!("{w}×{h} is too wide or tall to trace (limit {coord_limit})"),
-        });
-    }
-
-    let found = find_contours::<i32>(&mask.image);
+    let found = mask.borders();
 
     let mut work = Workspace::default();
     let mut traced: Vec<Option<Contour>> = Vec::with_capacity(found.len());
     let mut borders = Vec::with_capacity(found.len());
-    for border in &found {
-        let mut cracks = Vec::new();
-        let is_hole = border.border_type == BorderType::Hole;
-        if let Some(first) = border.points.first() {
-            let (x, y) = (i64::from(first.x), i64::from(first.y));
-            if is_hole {
-                mask.trace((x + 1, y), 1, &mut cracks);
-            } else {
-                mask.trace((x, y + 1), 3, &mut cracks);
-            }
-        }
+    let mut parents = Vec::with_capacity(found.len());
+    for border in found {
+        let (cracks, is_hole) = (border.cracks, border.is_hole);
         let contour = if cracks.is_empty() {
             None
         } else {
@@ -677,13 +498,13 @@ fn extract_with(
             finish(points, is_hole, border.parent, opts.min_area)
         };
         traced.push(contour);
+        parents.push(border.parent);
         borders.push(Border {
             cracks,
             is_hole,
             parent: border.parent,
         });
     }
-    let parents: Vec<Option<usize>> = found.iter().map(|b| b.parent).collect();
     let (contours, border_of) = renumber(traced, parents);
     Ok(Extraction {
         contours,
@@ -3027,7 +2848,7 @@ mod tests {
     fn edge_placement_does_not_depend_on_the_threshold() {
         let (bm, centre, radius) = disk_bitmap(16);
         for t in [0.3, 0.7] {
-            let moved = Bitmap::from_coverage(bm.width, bm.height, bm.coverage().to_vec(), Some(t))
+            let moved = Bitmap::from_coverage(bm.width, bm.height, bm.to_coverage(), Some(t))
                 .unwrap();
             let cs = extract_contours(&moved, &opts(2.0)).unwrap();
             let (max, _) = circle_errors(&cs[0].points, centre, radius);
@@ -3105,10 +2926,7 @@ mod tests {
             y > 10.3 + m * x && x > 5.0 && x < 55.0 && y < 25.0
         });
         let bm = Bitmap::from_coverage(60, 30, cov, Some(0.5)).unwrap();
-        let mask = PaddedMask::new(&bm).unwrap();
-        let first = find_contours::<i32>(&mask.image)[0].points[0];
-        let mut cracks = Vec::new();
-        mask.trace((i64::from(first.x), i64::from(first.y) + 1), 3, &mut cracks);
+        let cracks = PaddedMask::new(&bm).unwrap().borders().swap_remove(0).cracks;
         let mut w = Workspace::default();
         w.raw.extend(cracks.iter().map(|c| c.mid));
         w.normals.extend(cracks.iter().map(|c| c.normal));

@@ -36,10 +36,14 @@ pub const FLATTEN_STEP: f64 = 0.3;
 pub const SHAPE_LIMIT: f64 = 1.0;
 
 /// Cell size (px) of the spatial grid of drawn edges: small, so that a query looks at few
-/// edges, but the grid never holds more than `MAX_CELLS` cells.
+/// edges, but the grid never holds more than `CELLS_PER_EDGE` cells per edge.
 const CELL: f64 = 2.0;
-/// Largest number of cells of the edge grid (16 MB of offsets).
-const MAX_CELLS: f64 = 4.0e6;
+/// Most cells of the edge grid per drawn edge (and at least `MIN_CELLS`): the grid's
+/// memory follows the outline's length, not the image's area (a 4096 px image with a
+/// simple outline would otherwise spend 4 bytes per pixel on mostly empty cells).
+const CELLS_PER_EDGE: f64 = 4.0;
+/// Fewest cells the grid is allowed to shrink to.
+const MIN_CELLS: f64 = 4096.0;
 
 /// The verdict on one traced image, as reported.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -170,7 +174,8 @@ impl EdgeGrid {
             }
         }
         let area = f64::from(width) * f64::from(height);
-        let cell = CELL.max((area / MAX_CELLS).sqrt());
+        let max_cells = (CELLS_PER_EDGE * edges.len() as f64).max(MIN_CELLS);
+        let cell = CELL.max((area / max_cells).sqrt());
         let cols = (f64::from(width) / cell).ceil() as i64 + 1;
         let rows = (f64::from(height) / cell).ceil() as i64 + 1;
         let cells = (cols * rows) as usize;
@@ -193,18 +198,21 @@ impl EdgeGrid {
         for k in 0..cells {
             count[k + 1] += count[k];
         }
-        let mut fill = count.clone();
         let mut items = vec![0u32; count[cells] as usize];
+        // `count[cell]` serves as the cell's fill cursor, which ends at the next cell's
+        // start; shifting by one afterwards restores the starts.
         for (i, e) in edges.iter().enumerate() {
             let (c0, c1, r0, r1) = range(e);
             for r in r0..=r1 {
                 for c in c0..=c1 {
                     let cell = (r * cols + c) as usize;
-                    items[fill[cell] as usize] = i as u32;
-                    fill[cell] += 1;
+                    items[count[cell] as usize] = i as u32;
+                    count[cell] += 1;
                 }
             }
         }
+        count.copy_within(0..cells, 1);
+        count[0] = 0;
         EdgeGrid {
             edges,
             cell,
@@ -341,11 +349,12 @@ pub(crate) fn check(
             r += 1.0;
         }
     }
-    let coverage = bitmap.coverage();
     let threshold = bitmap.threshold();
     let mut far: HashSet<u32> = HashSet::new();
+    let mut coverage = vec![0.0; w];
     for (row, xs) in crossings.iter_mut().enumerate() {
         xs.sort_by(f64::total_cmp);
+        bitmap.read_row(row, &mut coverage);
         let mut next = 0;
         let mut inside = false;
         for col in 0..w {
@@ -354,7 +363,7 @@ pub(crate) fn check(
                 inside = !inside;
                 next += 1;
             }
-            let fg = f64::from(coverage[row * w + col]) >= threshold;
+            let fg = f64::from(coverage[col]) >= threshold;
             if fg != inside && !excused.contains(&((row * w + col) as u32)) {
                 let centre = Point::new(x, row as f64 + 0.5);
                 if !grid.any_within(centre, SHAPE_LIMIT) {

@@ -19,7 +19,11 @@
 //! * Otherwise coverage = 1 − luma (Rec. 601 for colour images; dark shapes on a light background), and `invert` makes it
 //!   luma (light shapes on dark).
 //!
-//! Conversion goes through 32-bit floats, so 16-bit images keep their precision.
+//! Conversion goes through 32-bit floats, so 16-bit images keep their precision. The
+//! bitmap stores a level per pixel, not the float (`levels`): 8-bit grey images keep their
+//! bytes, 16-bit grey images their 16-bit values, and everything else is quantised to 16
+//! bits (within 7.7 × 10⁻⁶ of the float), so a large image costs one or two bytes per
+//! pixel.
 //!
 //! The threshold (foreground ⇔ coverage ≥ threshold) only decides the *topology* of the
 //! outlines; where the image has grey levels, `contour` places the edges by integrating the
@@ -34,7 +38,11 @@ use crate::error::{Error, Result};
 use crate::frames;
 use crate::geom::Point;
 use image::{DynamicImage, GenericImageView, GrayImage, ImageDecoder, ImageReader, Limits};
+use levels::Levels;
+use std::borrow::Cow;
 use std::path::Path;
+
+mod levels;
 
 /// Rec. 601 luma weights of red, green and blue.
 const REC601: [f32; 3] = [0.299, 0.587, 0.114];
@@ -146,7 +154,7 @@ pub struct Bitmap {
     /// Height in pixels.
     pub height: u32,
     /// Row-major coverage, 1.0 = foreground, 0.0 = background.
-    coverage: Vec<f32>,
+    coverage: Levels,
     /// Foreground ⇔ coverage ≥ threshold; in [0, 1].
     threshold: f64,
     /// True when (almost) no edge pixel has a grey level.
@@ -168,7 +176,8 @@ pub struct Bitmap {
 impl Bitmap {
     /// Builds a bitmap from a row-major coverage field (1 = foreground, 0 = background).
     ///
-    /// Values are clamped to [0, 1] and NaN counts as background. `threshold` is on the
+    /// Values are clamped to [0, 1], NaN counts as background, and each is stored to 16
+    /// bits (within 7.7 × 10⁻⁶; 0 and 1 exactly). `threshold` is on the
     /// [0, 1] scale; `None` chooses Otsu's level (see the module docs). Detects
     /// [`is_bilevel`](Self::is_bilevel) and [`dark_border`](Self::dark_border).
     ///
@@ -180,13 +189,19 @@ impl Bitmap {
         coverage: Vec<f32>,
         threshold: Option<f64>,
     ) -> Result<Bitmap> {
-        Bitmap::build(width, height, coverage, threshold, false)
+        Bitmap::build(
+            width,
+            height,
+            Levels::quantised(coverage.into_iter().map(levels::quantise).collect()),
+            threshold,
+            false,
+        )
     }
 
     fn build(
         width: u32,
         height: u32,
-        mut coverage: Vec<f32>,
+        coverage: Levels,
         threshold: Option<f64>,
         from_alpha: bool,
     ) -> Result<Bitmap> {
@@ -211,10 +226,6 @@ impl Bitmap {
                 });
             }
         }
-        for v in &mut coverage {
-            // `!(v >= 0)` also catches NaN.
-            *v = if *v >= 0.0 { v.min(1.0) } else { 0.0 };
-        }
         let threshold = threshold.unwrap_or_else(|| otsu_threshold(&coverage));
         let mut bitmap = Bitmap {
             width,
@@ -234,9 +245,23 @@ impl Bitmap {
         Ok(bitmap)
     }
 
-    /// The row-major coverage values, `width × height` of them.
-    pub fn coverage(&self) -> &[f32] {
-        &self.coverage
+    /// A copy of the row-major coverage values, `width × height` of them (4 bytes per
+    /// pixel; the bitmap itself stores one or two).
+    pub fn to_coverage(&self) -> Vec<f32> {
+        let mut out = vec![0.0; self.coverage.len()];
+        self.coverage.read(0, &mut out);
+        out
+    }
+
+    /// Number of coverage values stored (`width × height` unless the public fields were
+    /// changed).
+    pub(crate) fn stored_pixels(&self) -> usize {
+        self.coverage.len()
+    }
+
+    /// The coverage of row `row` written to `out` (`width` values; zeros past the end).
+    pub(crate) fn read_row(&self, row: usize, out: &mut [f32]) {
+        self.coverage.read(row * self.width as usize, out);
     }
 
     /// Coverage of pixel (col, row); 0 outside the image.
@@ -246,7 +271,7 @@ impl Bitmap {
             return 0.0;
         }
         let index = row as usize * self.width as usize + col as usize;
-        self.coverage.get(index).copied().unwrap_or(0.0)
+        self.coverage.get(index).unwrap_or(0.0)
     }
 
     /// Bilinear interpolation of the coverage at `p`, with pixel (c, r) sampled at its centre
@@ -274,13 +299,8 @@ impl Bitmap {
         {
             let stride = self.width as usize;
             let i = r as usize * stride + c as usize;
-            match (
-                self.coverage.get(i..i + 2),
-                self.coverage.get(i + stride..i + stride + 2),
-            ) {
-                (Some(top), Some(bottom)) => (top[0], top[1], bottom[0], bottom[1]),
-                _ => return 0.0,
-            }
+            let at = |k: usize| self.coverage.get(k).unwrap_or(0.0);
+            (at(i), at(i + 1), at(i + stride), at(i + stride + 1))
         } else {
             (
                 self.coverage_at(c, r),
@@ -347,10 +367,15 @@ impl Bitmap {
 
     /// The thresholded image: 255 where coverage ≥ threshold, 0 elsewhere.
     pub fn mask(&self) -> GrayImage {
-        let pixels = self
-            .coverage
-            .iter()
-            .map(|&v| if self.is_foreground(v) { 255 } else { 0 })
+        let pixels = (0..self.coverage.len())
+            .map(|i| {
+                let v = self.coverage.get(i).unwrap_or(0.0);
+                if self.is_foreground(v) {
+                    255
+                } else {
+                    0
+                }
+            })
             .collect();
         GrayImage::from_raw(self.width, self.height, pixels)
             .unwrap_or_else(|| GrayImage::new(self.width, self.height))
@@ -359,10 +384,8 @@ impl Bitmap {
     /// The coverage as a picture: foreground black (0), background white (255), grey levels
     /// in between. Used as the backdrop of overlays.
     pub fn preview(&self) -> GrayImage {
-        let pixels = self
-            .coverage
-            .iter()
-            .map(|&v| ((1.0 - v) * 255.0 + 0.5) as u8)
+        let pixels = (0..self.coverage.len())
+            .map(|i| ((1.0 - self.coverage.get(i).unwrap_or(0.0)) * 255.0 + 0.5) as u8)
             .collect();
         GrayImage::from_raw(self.width, self.height, pixels)
             .unwrap_or_else(|| GrayImage::new(self.width, self.height))
@@ -384,13 +407,20 @@ impl Bitmap {
         let w = self.width as usize;
         let level = self.foreground_level();
         let (mut edge, mut grey_edge) = (0u64, 0u64);
-        let mut rows = self.coverage.chunks_exact(w).peekable();
-        while let Some(row) = rows.next() {
+        let (mut row, mut next) = (vec![0.0; w], vec![0.0; w]);
+        let rows = self.coverage.len() / w;
+        for r in 0..rows {
+            if r == 0 {
+                self.read_row(0, &mut row);
+            } else {
+                std::mem::swap(&mut row, &mut next);
+            }
             let (e, g) = crossing_counts(&row[..w - 1], &row[1..], level);
             edge += e;
             grey_edge += g;
-            if let Some(next) = rows.peek() {
-                let (e, g) = crossing_counts(row, next, level);
+            if r + 1 < rows {
+                self.read_row(r + 1, &mut next);
+                let (e, g) = crossing_counts(&row, &next, level);
                 edge += e;
                 grey_edge += g;
             }
@@ -445,27 +475,13 @@ fn crossing_counts(a: &[f32], b: &[f32], level: f32) -> (u64, u64) {
 /// Otsu's threshold of a coverage field on a 256-bin histogram, on the [0, 1] scale, clamped
 /// to [`OTSU_MIN`, `OTSU_MAX`]. Ties (an empty range of levels between the classes) resolve
 /// to the middle of the range. A uniform field gives 0.5.
-fn otsu_threshold(coverage: &[f32]) -> f64 {
-    // Four interleaved histograms, so that runs of equal values (most of an image) do not
-    // serialise on one counter. Coverage is already clamped to [0, 1].
+fn otsu_threshold(coverage: &Levels) -> f64 {
+    // Coverage is already clamped to [0, 1].
     // (Through i32: float to u64 conversion is much slower on x86-64.)
     let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
-    let mut parts = [[0u32; 256]; 4];
-    let mut chunks = coverage.chunks_exact(4);
-    for c in &mut chunks {
-        parts[0][bin(c[0])] += 1;
-        parts[1][bin(c[1])] += 1;
-        parts[2][bin(c[2])] += 1;
-        parts[3][bin(c[3])] += 1;
-    }
-    for &v in chunks.remainder() {
-        parts[0][bin(v)] += 1;
-    }
     let mut hist = [0u64; 256];
-    for part in &parts {
-        for (h, &p) in hist.iter_mut().zip(part) {
-            *h += u64::from(p);
-        }
+    for (v, n) in coverage.histogram() {
+        hist[bin(v)] += n;
     }
     let total = coverage.len() as f64;
     let sum_all: f64 = hist
@@ -530,8 +546,7 @@ fn check_dimensions(width: u32, height: u32, max_pixels: u64) -> Result<()> {
 fn for_each_luma_alpha(img: &DynamicImage, mut f: impl FnMut(f32, f32)) {
     // Divisions, not multiplications by reciprocals: the same values as `image`'s own
     // conversion to floats.
-    let u8f = |v: u8| f32::from(v) / 255.0;
-    let u16f = |v: u16| f32::from(v) / 65535.0;
+    let (u8f, u16f) = (u8_value, u16_value);
     let rgb = |r: f32, g: f32, b: f32| REC601[0] * r + REC601[1] * g + REC601[2] * b;
     match img {
         DynamicImage::ImageLuma8(b) => b.pixels().for_each(|p| f(u8f(p[0]), 1.0)),
@@ -551,6 +566,17 @@ fn for_each_luma_alpha(img: &DynamicImage, mut f: impl FnMut(f32, f32)) {
             .pixels()
             .for_each(|p| f(rgb(p[0], p[1], p[2]), p[3])),
     }
+}
+
+/// An 8-bit channel value on the [0, 1] scale. A division, not a multiplication by the
+/// reciprocal: the same value as `image`'s own conversion to floats.
+fn u8_value(v: u8) -> f32 {
+    f32::from(v) / 255.0
+}
+
+/// A 16-bit channel value on the [0, 1] scale (see [`u8_value`]).
+fn u16_value(v: u16) -> f32 {
+    f32::from(v) / 65535.0
 }
 
 /// Fraction of an image's pixels that must be mostly transparent (alpha below one half)
@@ -573,10 +599,11 @@ pub enum AlphaRule {
     Luminance,
 }
 
-/// Bytes per pixel that tracing needs beyond the decoded image: the coverage field (4),
-/// the thresholded mask and the contour tracer's labels (measured peak on large simple
-/// images: about 8 per pixel in all).
-const TRACE_BYTES_PER_PIXEL: u64 = 12;
+/// Bytes per pixel that tracing needs beyond the decoded image: the coverage levels (2,
+/// none when an 8-bit grey image's own buffer becomes them) and the thresholded mask
+/// while it is built (1), with room to spare (measured peak on a 4096 × 3359 grey
+/// silhouette: 38 MB in all, 2.8 bytes per pixel including the decoded image).
+const TRACE_BYTES_PER_PIXEL: u64 = 4;
 
 /// Checks that decoding (`decoded_bpp` bytes per pixel) and tracing a `width`×`height`
 /// image fits in the memory the system has available, so that a huge image is refused
@@ -609,13 +636,19 @@ fn available_memory() -> Option<u64> {
 /// Errors: [`Error::ZeroSize`], [`Error::TooLarge`] (against `opts.max_pixels`),
 /// [`Error::InvalidOption`] for [`AlphaRule::Alpha`] on an image without alpha.
 pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
+    convert(Cow::Borrowed(img), opts)
+}
+
+/// [`from_image`], keeping an owned 8- or 16-bit grey image's pixel buffer as the bitmap's
+/// levels instead of copying it.
+fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
     let (width, height) = img.dimensions();
     check_dimensions(width, height, opts.max_pixels)?;
     let pixels = u64::from(width) * u64::from(height);
     let has_alpha = img.color().has_alpha();
     let mut transparent = 0u64;
     if has_alpha {
-        for_each_luma_alpha(img, |_, a| transparent += u64::from(a < 0.5));
+        for_each_luma_alpha(&img, |_, a| transparent += u64::from(a < 0.5));
     }
     let transparent = transparent as f64 / pixels as f64;
     let from_alpha = match opts.alpha {
@@ -629,16 +662,38 @@ pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
             })
         }
     };
-    let mut coverage = Vec::with_capacity(pixels as usize);
     // With luminance, transparent pixels show the white paper under them.
-    for_each_luma_alpha(img, |l, a| {
+    let value = |l: f32, a: f32| {
         let c = if from_alpha {
             a
         } else {
             1.0 - (l * a + (1.0 - a))
         };
-        coverage.push(if opts.invert { 1.0 - c } else { c });
-    });
+        if opts.invert {
+            1.0 - c
+        } else {
+            c
+        }
+    };
+    let coverage = match img {
+        Cow::Owned(DynamicImage::ImageLuma8(b)) => {
+            Levels::bytes(b.into_raw(), |v| value(u8_value(v), 1.0))
+        }
+        Cow::Borrowed(DynamicImage::ImageLuma8(b)) => {
+            Levels::bytes(b.as_raw().clone(), |v| value(u8_value(v), 1.0))
+        }
+        Cow::Owned(DynamicImage::ImageLuma16(b)) => {
+            Levels::words(b.into_raw(), |v| value(u16_value(v), 1.0))
+        }
+        Cow::Borrowed(DynamicImage::ImageLuma16(b)) => {
+            Levels::words(b.as_raw().clone(), |v| value(u16_value(v), 1.0))
+        }
+        other => {
+            let mut levels = Vec::with_capacity(pixels as usize);
+            for_each_luma_alpha(&other, |l, a| levels.push(levels::quantise(value(l, a))));
+            Levels::quantised(levels)
+        }
+    };
     let scale = match (from_alpha, opts.invert) {
         (false, false) => ThresholdScale::Luminance,
         (false, true) => ThresholdScale::InvertedLuminance,
@@ -737,7 +792,7 @@ pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bit
         }
         (decode_still(reader, limits, name, &check)?, 1)
     };
-    let mut bitmap = from_image(&img, opts)?;
+    let mut bitmap = convert(Cow::Owned(img), opts)?;
     bitmap.frame = opts.frame;
     bitmap.frames = frames;
     Ok(bitmap)
@@ -958,7 +1013,7 @@ mod tests {
         opaque.put_pixel(1, 0, LumaA([0, 255]));
         let b = from_image(&DynamicImage::ImageLumaA8(opaque), &opts()).unwrap();
         assert!(!b.from_alpha());
-        assert_eq!(b.coverage(), &[0.0, 1.0, 0.0]);
+        assert_eq!(b.to_coverage(), &[0.0, 1.0, 0.0]);
     }
 
     #[test]
@@ -976,13 +1031,13 @@ mod tests {
         // One transparent pixel: the luminance is the shape, not the whole rectangle.
         let b = from_image(&picture(1), &opts()).unwrap();
         assert!(!b.from_alpha());
-        assert_eq!(b.coverage().iter().filter(|&&c| c > 0.5).count(), 16);
+        assert_eq!(b.to_coverage().iter().filter(|&&c| c > 0.5).count(), 16);
         assert!((b.transparent_fraction() - 0.01).abs() < 1e-12);
         // Nine transparent pixels (just under a tenth): still luminance; ten: alpha.
         assert!(!from_image(&picture(9), &opts()).unwrap().from_alpha());
         let b = from_image(&picture(10), &opts()).unwrap();
         assert!(b.from_alpha());
-        assert_eq!(b.coverage().iter().filter(|&&c| c > 0.5).count(), 90);
+        assert_eq!(b.to_coverage().iter().filter(|&&c| c > 0.5).count(), 90);
         // Either choice can be forced.
         let forced = |alpha| RasterOptions { alpha, ..opts() };
         assert!(from_image(&picture(1), &forced(AlphaRule::Alpha))
@@ -1007,8 +1062,8 @@ mod tests {
         assert_eq!(b.sample(Point::new(0.5, 0.5)), 0.0);
         assert_eq!(b.sample(Point::new(1.5, 0.5)), 1.0);
         assert_eq!(b.sample(Point::new(1.0, 0.5)), 0.5);
-        // Centre of the four: mean 0.4375.
-        assert!((b.sample(Point::new(1.0, 1.0)) - 0.4375).abs() < 1e-7);
+        // Centre of the four: mean 0.4375 (to the 16-bit steps the values are stored in).
+        assert!((b.sample(Point::new(1.0, 1.0)) - 0.4375).abs() < 1e-5);
         // Half a pixel past the right border: halfway to the outside zero.
         assert!((b.sample(Point::new(2.0, 0.5)) - 0.5).abs() < 1e-7);
         assert_eq!(b.sample(Point::new(2.5, 0.5)), 0.0);
@@ -1050,7 +1105,8 @@ mod tests {
     fn mask_and_preview() {
         let b = Bitmap::from_coverage(3, 1, vec![0.0, 0.5, 1.0], Some(0.5)).unwrap();
         assert_eq!(b.mask().into_raw(), vec![0, 255, 255]);
-        assert_eq!(b.preview().into_raw(), vec![255, 128, 0]);
+        // 0.5 is stored as 32768/65535, a hair above one half.
+        assert_eq!(b.preview().into_raw(), vec![255, 127, 0]);
     }
 
     #[test]
@@ -1071,7 +1127,7 @@ mod tests {
             Err(Error::InvalidOption { .. })
         ));
         let b = Bitmap::from_coverage(3, 1, vec![f32::NAN, -2.0, 7.0], Some(0.5)).unwrap();
-        assert_eq!(b.coverage(), &[0.0, 0.0, 1.0]);
+        assert_eq!(b.to_coverage(), &[0.0, 0.0, 1.0]);
     }
 
     #[test]

@@ -726,9 +726,9 @@ fn png_header_only(width: u32, height: u32) -> Vec<u8> {
 #[test]
 fn an_image_beyond_memory_is_refused_before_allocating() {
     let dir = scratch("memory");
-    // 4 000 000 000 pixels: about 48 GB to trace, more than this machine or CI has.
+    // 10 000 000 000 pixels: about 50 GB to trace, more than this machine or CI has.
     let huge = dir.join("huge.png");
-    std::fs::write(&huge, png_header_only(80_000, 50_000)).unwrap();
+    std::fs::write(&huge, png_header_only(100_000, 100_000)).unwrap();
     let svg = dir.join("huge.svg");
     let (code, _, err) = run(bin().arg("trace").arg(&huge).arg("-o").arg(&svg));
     assert_eq!(code, 1);
@@ -738,7 +738,7 @@ fn an_image_beyond_memory_is_refused_before_allocating() {
         .arg(&huge)
         .arg("-o")
         .arg(&svg)
-        .args(["--max-pixels", "5000000000"]));
+        .args(["--max-pixels", "20000000000"]));
     assert_eq!(code, 1, "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(
