@@ -242,7 +242,6 @@ enum EdgeEstimator {
     LevelCrossing,
 }
 
-
 /// Extracts the contours of the foreground of `bitmap`.
 ///
 /// Returns outer borders, holes and islands in the order of their first pixel edge in a
@@ -2848,8 +2847,8 @@ mod tests {
     fn edge_placement_does_not_depend_on_the_threshold() {
         let (bm, centre, radius) = disk_bitmap(16);
         for t in [0.3, 0.7] {
-            let moved = Bitmap::from_coverage(bm.width, bm.height, bm.to_coverage(), Some(t))
-                .unwrap();
+            let moved =
+                Bitmap::from_coverage(bm.width, bm.height, bm.to_coverage(), Some(t)).unwrap();
             let cs = extract_contours(&moved, &opts(2.0)).unwrap();
             let (max, _) = circle_errors(&cs[0].points, centre, radius);
             assert!(max < 0.05, "threshold {t}: {max}");
@@ -2926,7 +2925,11 @@ mod tests {
             y > 10.3 + m * x && x > 5.0 && x < 55.0 && y < 25.0
         });
         let bm = Bitmap::from_coverage(60, 30, cov, Some(0.5)).unwrap();
-        let cracks = PaddedMask::new(&bm).unwrap().borders().swap_remove(0).cracks;
+        let cracks = PaddedMask::new(&bm)
+            .unwrap()
+            .borders()
+            .swap_remove(0)
+            .cracks;
         let mut w = Workspace::default();
         w.raw.extend(cracks.iter().map(|c| c.mid));
         w.normals.extend(cracks.iter().map(|c| c.normal));

@@ -352,7 +352,11 @@ mod tests {
             let bitmap = random_mask(&mut rng, w, h, p, case % 4);
             let mut mask = PaddedMask::new(&bitmap).unwrap();
             let image = image::GrayImage::from_fn(mask.width as u32, mask.height as u32, |x, y| {
-                image::Luma([if mask.is_foreground((x.into(), y.into())) { 255 } else { 0 }])
+                image::Luma([if mask.is_foreground((x.into(), y.into())) {
+                    255
+                } else {
+                    0
+                }])
             });
             let theirs = find_contours::<i32>(&image);
             let ours = mask.borders();
@@ -372,7 +376,10 @@ mod tests {
             }
             compared += ours.len();
         }
-        assert!(compared > 3000 && holes > 1000 && islands > 30, "{compared} {holes} {islands}");
+        assert!(
+            compared > 3000 && holes > 1000 && islands > 30,
+            "{compared} {holes} {islands}"
+        );
     }
 
     /// Every crack of the mask is on exactly one border, each border is closed, and the

@@ -138,7 +138,10 @@ mod tests {
         let levels = Levels::quantised(values.iter().map(|&v| quantise(v)).collect());
         for (i, &v) in values.iter().enumerate() {
             let got = levels.get(i).unwrap();
-            assert!((got - v).abs() <= 0.5 / 65535.0 + 1e-7, "{v} stored as {got}");
+            assert!(
+                (got - v).abs() <= 0.5 / 65535.0 + 1e-7,
+                "{v} stored as {got}"
+            );
             // 8-bit values come back exactly.
             let byte = (i % 256) as f32 / 255.0;
             let stored = Levels::quantised(vec![quantise(byte)]).get(0).unwrap();
