@@ -21,6 +21,7 @@
 //! [`crate::trace_bitmap`] repairs what fails (see [`Repair`]) and reports the final check
 //! in [`Fidelity`].
 
+use crate::curve::CubicBez;
 use crate::export::svg::drawing_pieces;
 use crate::fit::FittedContour;
 use crate::geom::{distance_to_closed_polyline, segment_distance, Point};
@@ -113,7 +114,7 @@ pub(crate) struct Limits {
     pub(crate) bound: f64,
 }
 
-/// An edge of the flattened drawn outline.
+/// An edge of the flattened drawn outline (a copy of its end points).
 #[derive(Clone, Copy, Debug)]
 struct Edge {
     a: Point,
@@ -129,15 +130,23 @@ fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
             if c.segments.is_empty() {
                 return Vec::new();
             }
-            let mut out = Vec::new();
-            for (start, cubics) in drawing_pieces(c, bound) {
+            let steps = |cubic: &CubicBez| {
+                let p = cubic.points;
+                let hull = p[0].distance(p[1]) + p[1].distance(p[2]) + p[2].distance(p[3]);
+                ((hull / FLATTEN_STEP).ceil() as usize).clamp(1, 4096)
+            };
+            let pieces = drawing_pieces(c, bound);
+            let total = pieces
+                .iter()
+                .map(|(_, cubics)| 1 + cubics.iter().map(steps).sum::<usize>())
+                .sum();
+            let mut out = Vec::with_capacity(total);
+            for (start, cubics) in pieces {
                 out.push(start);
                 for cubic in cubics {
-                    let p = cubic.points;
-                    let hull = p[0].distance(p[1]) + p[1].distance(p[2]) + p[2].distance(p[3]);
-                    let steps = ((hull / FLATTEN_STEP).ceil() as usize).clamp(1, 4096);
-                    for k in 1..=steps {
-                        out.push(cubic.eval(k as f64 / steps as f64));
+                    let n = steps(&cubic);
+                    for k in 1..=n {
+                        out.push(cubic.eval(k as f64 / n as f64));
                     }
                 }
             }
@@ -148,8 +157,11 @@ fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
 }
 
 /// A uniform grid of edges (compressed rows: `start[cell]..start[cell + 1]` index `items`).
-struct EdgeGrid {
-    edges: Vec<Edge>,
+struct EdgeGrid<'a> {
+    polylines: &'a [Vec<Point>],
+    /// Every edge as (contour, index of its first point): 8 bytes instead of a copy of
+    /// its end points (a text page at 600 dpi has millions).
+    edges: Vec<(u32, u32)>,
     cell: f64,
     cols: i64,
     rows: i64,
@@ -157,24 +169,48 @@ struct EdgeGrid {
     items: Vec<u32>,
 }
 
-impl EdgeGrid {
-    fn new(polylines: &[Vec<Point>], width: u32, height: u32) -> EdgeGrid {
-        let mut edges = Vec::new();
+impl<'a> EdgeGrid<'a> {
+    fn new(polylines: &'a [Vec<Point>], width: u32, height: u32) -> EdgeGrid<'a> {
+        let count = polylines.iter().map(Vec::len).filter(|&n| n >= 2).sum();
+        let mut edges = Vec::with_capacity(count);
         for (i, line) in polylines.iter().enumerate() {
-            let n = line.len();
-            if n < 2 {
-                continue;
-            }
-            for k in 0..n {
-                edges.push(Edge {
-                    a: line[k],
-                    b: line[(k + 1) % n],
-                    contour: i as u32,
-                });
+            if line.len() >= 2 {
+                edges.extend((0..line.len() as u32).map(|k| (i as u32, k)));
             }
         }
+        let grid = EdgeGrid {
+            polylines,
+            edges,
+            cell: 0.0,
+            cols: 0,
+            rows: 0,
+            start: Vec::new(),
+            items: Vec::new(),
+        };
+        grid.with_cells(width, height)
+    }
+
+    /// The edge with end points copied out.
+    #[inline]
+    fn edge(&self, (contour, k): (u32, u32)) -> Edge {
+        let line = &self.polylines[contour as usize];
+        let k = k as usize;
+        Edge {
+            a: line[k],
+            b: line[(k + 1) % line.len()],
+            contour,
+        }
+    }
+
+    /// Every edge, in order.
+    fn all_edges(&self) -> impl Iterator<Item = Edge> + '_ {
+        self.edges.iter().map(|&e| self.edge(e))
+    }
+
+    /// Fills the cells for an image of `width` × `height` px.
+    fn with_cells(mut self, width: u32, height: u32) -> EdgeGrid<'a> {
         let area = f64::from(width) * f64::from(height);
-        let max_cells = (CELLS_PER_EDGE * edges.len() as f64).max(MIN_CELLS);
+        let max_cells = (CELLS_PER_EDGE * self.edges.len() as f64).max(MIN_CELLS);
         let cell = CELL.max((area / max_cells).sqrt());
         let cols = (f64::from(width) / cell).ceil() as i64 + 1;
         let rows = (f64::from(height) / cell).ceil() as i64 + 1;
@@ -187,8 +223,8 @@ impl EdgeGrid {
             (c0, c1, r0, r1)
         };
         let mut count = vec![0u32; cells + 1];
-        for e in &edges {
-            let (c0, c1, r0, r1) = range(e);
+        for e in self.all_edges() {
+            let (c0, c1, r0, r1) = range(&e);
             for r in r0..=r1 {
                 for c in c0..=c1 {
                     count[(r * cols + c) as usize + 1] += 1;
@@ -201,8 +237,8 @@ impl EdgeGrid {
         let mut items = vec![0u32; count[cells] as usize];
         // `count[cell]` serves as the cell's fill cursor, which ends at the next cell's
         // start; shifting by one afterwards restores the starts.
-        for (i, e) in edges.iter().enumerate() {
-            let (c0, c1, r0, r1) = range(e);
+        for (i, e) in self.all_edges().enumerate() {
+            let (c0, c1, r0, r1) = range(&e);
             for r in r0..=r1 {
                 for c in c0..=c1 {
                     let cell = (r * cols + c) as usize;
@@ -213,27 +249,31 @@ impl EdgeGrid {
         }
         count.copy_within(0..cells, 1);
         count[0] = 0;
-        EdgeGrid {
-            edges,
-            cell,
-            cols,
-            rows,
-            start: count,
-            items,
-        }
+        self.cell = cell;
+        self.cols = cols;
+        self.rows = rows;
+        self.start = count;
+        self.items = items;
+        self
     }
 
     /// Nearest edge to `p` within `reach` px (of contour `only`, if given): distance and
     /// contour, or `None` when there is none that close. Cells are searched ring by ring
     /// outwards from `p`'s own, and the search stops once the best distance found is
-    /// below what any further ring could hold: ring j lies at least (j − 1) cells away.
+    /// below what any further ring could hold. (Edges beyond the grid are listed in its
+    /// border cells, nearer to a point inside; for a point outside, the rings before the
+    /// grid are empty, so nothing is skipped until the grid is reached.)
     fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, u32)> {
         let c = (p.x / self.cell).floor() as i64;
         let r = (p.y / self.cell).floor() as i64;
         let k = (reach / self.cell).ceil() as i64;
+        // Ring j ≥ 1 lies outside the block of rings below it, at least (j − 1) cells
+        // plus `margin` (the distance from `p` to its own cell's sides) away.
+        let (fx, fy) = (p.x - c as f64 * self.cell, p.y - r as f64 * self.cell);
+        let margin = (fx.min(self.cell - fx).min(fy).min(self.cell - fy) - 1e-9).max(0.0);
         let mut best: Option<(f64, u32)> = None;
         for ring in 0..=k {
-            if best.is_some_and(|(d, _)| d <= (ring - 1) as f64 * self.cell) {
+            if ring > 0 && best.is_some_and(|(d, _)| d <= (ring - 1) as f64 * self.cell + margin) {
                 break;
             }
             for row in r - ring..=r + ring {
@@ -257,7 +297,7 @@ impl EdgeGrid {
     }
 
     /// The edges listed in cell (`row`, `col`); none outside the grid.
-    fn cell_edges(&self, row: i64, col: i64) -> impl Iterator<Item = &Edge> {
+    fn cell_edges(&self, row: i64, col: i64) -> impl Iterator<Item = Edge> + '_ {
         let inside = (0..self.rows).contains(&row) && (0..self.cols).contains(&col);
         let items = if inside {
             let cell = (row * self.cols + col) as usize;
@@ -265,7 +305,7 @@ impl EdgeGrid {
         } else {
             &[]
         };
-        items.iter().map(|&i| &self.edges[i as usize])
+        items.iter().map(|&i| self.edge(self.edges[i as usize]))
     }
 
     /// True when some edge lies within `reach` px of `p` (stops at the first).
@@ -285,6 +325,20 @@ impl EdgeGrid {
         }
         false
     }
+}
+
+/// The first column after `col` whose centre lies at or beyond the crossing `x` (at most
+/// `w`), where `x` lies beyond `col`'s centre.
+fn run_end(col: usize, x: f64, w: usize) -> usize {
+    let mut end = ((x - 0.5).ceil().max(col as f64 + 1.0) as usize).min(w);
+    // Exactly the comparison the pixel loop makes, whatever the rounding above.
+    while end > col + 1 && (end - 1) as f64 + 0.5 >= x {
+        end -= 1;
+    }
+    while end < w && (end as f64 + 0.5) < x {
+        end += 1;
+    }
+    end
 }
 
 /// Pixels in `excused` (specks dropped on purpose) never count as far.
@@ -332,7 +386,7 @@ pub(crate) fn check(
     // 2. Disagreement between the drawn shape and the thresholded input.
     let (w, h) = (bitmap.width as usize, bitmap.height as usize);
     let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); h];
-    for e in &grid.edges {
+    for e in grid.all_edges() {
         let (a, b) = (e.a, e.b);
         if a.y == b.y {
             continue;
@@ -355,21 +409,34 @@ pub(crate) fn check(
     for (row, xs) in crossings.iter_mut().enumerate() {
         xs.sort_by(f64::total_cmp);
         bitmap.read_row(row, &mut coverage);
-        let mut next = 0;
-        let mut inside = false;
-        for col in 0..w {
-            let x = col as f64 + 0.5;
-            while next < xs.len() && xs[next] <= x {
+        let (mut next, mut inside, mut col) = (0, false, 0);
+        while col < w {
+            // Crossings at or before this pixel's centre.
+            while next < xs.len() && xs[next] <= col as f64 + 0.5 {
                 inside = !inside;
                 next += 1;
             }
-            let fg = f64::from(coverage[col]) >= threshold;
-            if fg != inside && !excused.contains(&((row * w + col) as u32)) {
-                let centre = Point::new(x, row as f64 + 0.5);
-                if !grid.any_within(centre, SHAPE_LIMIT) {
-                    far.insert((row * w + col) as u32);
+            // The run of pixels up to the next crossing, all on one side of the drawn
+            // outline: most runs agree with the mask everywhere, which a vectorised count
+            // tells before any pixel is looked at alone.
+            let end = match xs.get(next) {
+                Some(&x) => run_end(col, x, w),
+                None => w,
+            };
+            let run = &coverage[col..end];
+            let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
+            if run.iter().filter(|&&v| disagree(v)).count() > 0 {
+                for (k, _) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
+                    let index = (row * w + col + k) as u32;
+                    if !excused.contains(&index) {
+                        let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
+                        if !grid.any_within(centre, SHAPE_LIMIT) {
+                            far.insert(index);
+                        }
+                    }
                 }
             }
+            col = end;
         }
     }
     let mut regions = Vec::new();
