@@ -7,12 +7,13 @@ usage (from the bench folder that holds results/, e.g. ../shared/bench):
 
 Prints, per subset: items that failed, items more than 1 px worse in Hausdorff than potrace
 on the same item, items above 3 px (ours and potrace's), and the mean ratios of area error
-(symmetric difference), Hausdorff distance and segment count to potrace's; then the worst
-items. Exit status 1 when a target is missed:
+(symmetric difference), Hausdorff distance, segment count and SVG bytes to potrace's; then
+the worst items. Exit status 1 when a target is missed:
   - no item fails, none is more than 1 px worse than potrace, the count above 3 px is at
     most a third of potrace's (rounded down, at least 0);
   - anti-aliased glyphs (dev-glyph64/256, dev-more64/256): area <= 0.4x, Hausdorff <= 0.6x,
-    segments <= 1x potrace; the other subsets <= 1x on all three.
+    segments <= 1x potrace; the other subsets <= 1x on all three;
+  - SVG bytes <= 1x potrace's on every subset (the speed issue's size target).
 """
 import csv
 import sys
@@ -35,8 +36,8 @@ for item, b in base.items():
 ANTI_ALIASED = {"dev-glyph64", "dev-glyph256", "dev-more64", "dev-more256"}
 missed = []
 worse_items = []
-print("| subset | items | failed | >1 px worse than potrace | >3 px ours / potrace | area ratio | Hausdorff ratio | segments ratio |")
-print("|---|---|---|---|---|---|---|---|")
+print("| subset | items | failed | >1 px worse than potrace | >3 px ours / potrace | area ratio | Hausdorff ratio | segments ratio | bytes ratio |")
+print("|---|---|---|---|---|---|---|---|---|")
 for subset in sorted(by_subset):
     ids = by_subset[subset]
     failed = [i for i in ids if ours.get(i, {}).get("status") != "ok"]
@@ -51,16 +52,16 @@ for subset in sorted(by_subset):
         b = sum(float(base[i][col]) for i in ok) / max(len(ok), 1)
         return a / b if b else float("nan")
 
-    ra, rh, rs = ratio("symdiff_px"), ratio("hausdorff_px"), ratio("segments")
-    print(f"| {subset} | {len(ids)} | {len(failed)} | {len(worse)} | {above} / {above_base} | {ra:.2f} | {rh:.2f} | {rs:.2f} |")
-    limits = (0.4, 0.6, 1.0) if subset in ANTI_ALIASED else (1.0, 1.0, 1.0)
+    ra, rh, rs, rb = ratio("symdiff_px"), ratio("hausdorff_px"), ratio("segments"), ratio("bytes")
+    print(f"| {subset} | {len(ids)} | {len(failed)} | {len(worse)} | {above} / {above_base} | {ra:.2f} | {rh:.2f} | {rs:.2f} | {rb:.2f} |")
+    limits = (0.4, 0.6, 1.0, 1.0) if subset in ANTI_ALIASED else (1.0, 1.0, 1.0, 1.0)
     if failed:
         missed.append(f"{subset}: {len(failed)} failed")
     if worse:
         missed.append(f"{subset}: {len(worse)} items >1 px worse than potrace")
     if above > above_base // 3:
         missed.append(f"{subset}: {above} items above 3 px (potrace {above_base})")
-    for name, r, lim in zip(("area", "Hausdorff", "segments"), (ra, rh, rs), limits):
+    for name, r, lim in zip(("area", "Hausdorff", "segments", "bytes"), (ra, rh, rs, rb), limits):
         if not r <= lim:
             missed.append(f"{subset}: {name} ratio {r:.2f} > {lim}")
 

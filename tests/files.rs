@@ -36,8 +36,10 @@ fn run(cmd: &mut Command) -> (i32, String, String) {
     )
 }
 
-/// Bounding box (min x, min y, max x, max y) of the numbers of an SVG path.
+/// Bounding box (min x, min y, max x, max y) of the points and control points of the first
+/// SVG path.
 fn path_box(svg: &str) -> [f64; 4] {
+    use svgtypes::SimplePathSegment as S;
     let d = svg
         .split(" d=\"")
         .nth(1)
@@ -45,18 +47,24 @@ fn path_box(svg: &str) -> [f64; 4] {
         .split('"')
         .next()
         .unwrap();
-    let nums: Vec<f64> = d
-        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
-        .filter_map(|t| t.parse().ok())
-        .collect();
     let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-    for p in nums.chunks(2).filter(|p| p.len() == 2) {
-        b = [
-            b[0].min(p[0]),
-            b[1].min(p[1]),
-            b[2].max(p[0]),
-            b[3].max(p[1]),
-        ];
+    for segment in svgtypes::SimplifyingPathParser::from(d) {
+        let points = match segment.unwrap() {
+            S::MoveTo { x, y } | S::LineTo { x, y } => vec![(x, y)],
+            S::CurveTo {
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+            } => vec![(x1, y1), (x2, y2), (x, y)],
+            S::Quadratic { x1, y1, x, y } => vec![(x1, y1), (x, y)],
+            S::ClosePath => Vec::new(),
+        };
+        for (x, y) in points {
+            b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+        }
     }
     b
 }

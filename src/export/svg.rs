@@ -3,8 +3,10 @@
 //! One `<path>` per shape: an outer border together with every hole whose `parent` is that
 //! border, filled with `fill-rule="evenodd"` (outer borders and holes run in opposite
 //! directions, so `nonzero` would work too; `evenodd` does not depend on it). Each closed
-//! contour becomes `M x0 y0`, one `C` per polynomial cubic, then `Z`. Islands inside holes
-//! are outer borders of their own and get their own path.
+//! contour becomes `M x0 y0`, a relative `c` per polynomial cubic (`l`, `h` or `v` where
+//! the cubic is a straight line), then `z`, in the compact syntax SVG allows (see
+//! `contour_path_data`). Islands inside holes are outer borders of their own and get
+//! their own path.
 //!
 //! SVG cannot draw rational curves, so each rational segment goes through
 //! [`approximate_with_cubics`] with [`SvgOptions::bound`]: polynomial segments are written
@@ -14,9 +16,10 @@
 //!
 //! The document uses input pixel units (`viewBox="0 0 W H"`, x right, y down). Numbers are
 //! written by a small hand-made formatter: fixed decimals, trailing zeros trimmed, never
-//! `-0`, so identical results give byte-identical files. Rounding to `precision` decimals
-//! moves points by at most half a unit of the last decimal (0.0005 px by default), on top of
-//! the approximation bound.
+//! `-0`, so identical results give byte-identical files. Points are rounded to `precision`
+//! decimals, which moves them by at most half a unit of the last decimal (0.005 px by
+//! default), on top of the approximation bound; [`SvgOptions::for_tolerance`] picks the
+//! fewest decimals that keep this within half the bound.
 //!
 //! Nothing is dropped silently: a contour with non-finite coordinates, or a hole without an
 //! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
@@ -38,7 +41,8 @@ pub struct SvgOptions {
     /// that draw it. Non-positive or non-finite values are replaced by the default.
     /// Default: 0.02.
     pub bound: f64,
-    /// Decimals of every coordinate, at most [`MAX_PRECISION`]. Default: 3 (0.001 px).
+    /// Decimals of every coordinate, at most [`MAX_PRECISION`]. Default: 2 (0.01 px),
+    /// the fewest whose rounding (half a unit) stays within half the default bound.
     pub precision: usize,
     /// The fill colour, any SVG paint (escaped when written). Default: `#000000`.
     pub fill: String,
@@ -48,7 +52,7 @@ impl Default for SvgOptions {
     fn default() -> Self {
         SvgOptions {
             bound: DEFAULT_BOUND,
-            precision: 3,
+            precision: precision_for(DEFAULT_BOUND),
             fill: "#000000".to_string(),
         }
     }
@@ -60,8 +64,9 @@ const DEFAULT_BOUND: f64 = 0.02;
 impl SvgOptions {
     /// Options matched to a fitting tolerance: the approximation may add at most a
     /// twentieth of it, `bound = tolerance / 20` clamped to [0.005, 0.05] px (the default
-    /// tolerance 0.4 gives the default bound 0.02). A non-positive or non-finite tolerance
-    /// gives the defaults.
+    /// tolerance 0.3 gives 0.015), and coordinates get the fewest decimals whose rounding
+    /// stays within half the bound (2 for tolerances from 0.2 px, 3 below). A non-positive
+    /// or non-finite tolerance gives the defaults.
     pub fn for_tolerance(tolerance: f64) -> Self {
         let bound = if tolerance.is_finite() && tolerance > 0.0 {
             (tolerance / 20.0).clamp(0.005, 0.05)
@@ -70,6 +75,7 @@ impl SvgOptions {
         };
         SvgOptions {
             bound,
+            precision: precision_for(bound),
             ..SvgOptions::default()
         }
     }
@@ -78,6 +84,14 @@ impl SvgOptions {
     pub(crate) fn effective_bound(&self) -> f64 {
         effective_bound(self.bound)
     }
+}
+
+/// The fewest decimals (at most [`MAX_PRECISION`]) whose unit is at most `bound`, so that
+/// rounding (half a unit) moves a point by at most half the bound.
+fn precision_for(bound: f64) -> usize {
+    (0..MAX_PRECISION)
+        .find(|&p| 10f64.powi(-(p as i32)) <= effective_bound(bound) * (1.0 + 1e-9))
+        .unwrap_or(MAX_PRECISION)
 }
 
 /// `bound` if it is a positive finite number, else the default.
@@ -158,7 +172,7 @@ pub(crate) fn write_svg_open(
 
 /// The path data of one contour, or why there is none.
 pub(crate) enum ContourPath {
-    /// `M … C … Z`.
+    /// `M … c … z`.
     Data(String),
     /// The contour has no segments.
     Empty,
@@ -166,9 +180,15 @@ pub(crate) enum ContourPath {
     NonFinite,
 }
 
-/// Path data of one closed contour: `M x0 y0`, one `C` per cubic, `Z`. Where a segment
-/// does not start where the previous one ended (after rounding), an `L` bridges the gap
-/// rather than hiding it.
+/// Path data of one closed contour, written compactly (as potrace and SVG optimisers do):
+/// `M` to the first point, then relative commands, `c` per cubic or `l`/`h`/`v` where a
+/// cubic is straight, and `z`. Every point is first rounded to the grid of `precision`
+/// decimals and each relative offset is the difference of two rounded points, so the
+/// written path lands exactly on the rounded points (no drift along the contour). Where a
+/// segment does not start where the previous one ended (after rounding), an `l` bridges
+/// the gap rather than hiding it. A command letter is not repeated for consecutive
+/// commands of the same kind, a number's leading `0` is dropped (`.5`), and no separator
+/// is written before a minus sign or before a `.` that follows a number with a `.`.
 pub(crate) fn contour_path_data(
     contour: &FittedContour,
     bound: f64,
@@ -191,29 +211,163 @@ pub(crate) fn contour_path_data(
     if !finite {
         return ContourPath::NonFinite;
     }
-    let mut d = String::new();
-    let mut pen = format_point(pieces[0].0, precision);
-    d.push('M');
-    d.push_str(&pen);
+    let mut w = PathWriter::new(precision);
+    let mut pen = w.grid(pieces[0].0);
+    w.command('M');
+    w.number(pen.0);
+    w.number(pen.1);
     for (start, cubics) in &pieces {
-        let start = format_point(*start, precision);
+        let start = w.grid(*start);
         if start != pen {
-            d.push('L');
-            d.push_str(&start);
+            w.line(pen, start);
+            pen = start;
         }
         for c in cubics {
-            d.push('C');
-            for (k, &p) in c.points[1..].iter().enumerate() {
-                if k > 0 {
-                    d.push(' ');
+            let end = w.grid(c.points[3]);
+            if is_straight(c, w.half_unit) {
+                if end != pen {
+                    w.line(pen, end);
                 }
-                write_point(&mut d, p, precision);
+            } else {
+                w.command('c');
+                for p in &c.points[1..3] {
+                    let q = w.grid(*p);
+                    w.number(q.0 - pen.0);
+                    w.number(q.1 - pen.1);
+                }
+                w.number(end.0 - pen.0);
+                w.number(end.1 - pen.1);
             }
-            pen = format_point(c.points[3], precision);
+            pen = end;
         }
     }
-    d.push('Z');
-    ContourPath::Data(d)
+    w.command('z');
+    ContourPath::Data(w.out)
+}
+
+/// True when a cubic draws a straight line from its start to its end: both inner control
+/// points lie within `tolerance` of the chord and between its ends, so the curve (inside
+/// the hull of its control points) stays within `tolerance` of the line drawn instead.
+fn is_straight(c: &CubicBez, tolerance: f64) -> bool {
+    let [p0, p1, p2, p3] = c.points;
+    let chord = p3 - p0;
+    let length = chord.length();
+    if length <= tolerance {
+        return false;
+    }
+    let u = chord * (1.0 / length);
+    [p1, p2].iter().all(|&p| {
+        let d = p - p0;
+        let along = d.dot(u);
+        d.cross(u).abs() <= tolerance && along >= -tolerance && along <= length + tolerance
+    })
+}
+
+/// Writes path data on the grid of a fixed number of decimals, with the compact number
+/// syntax described at [`contour_path_data`].
+struct PathWriter {
+    out: String,
+    /// Grid units per pixel: 10^precision.
+    scale: f64,
+    precision: usize,
+    /// Half a grid unit, in pixels: the most rounding moves a coordinate.
+    half_unit: f64,
+    /// The last command letter written.
+    last_command: char,
+    /// Whether the last thing written is a number containing a `.` (a following `.5`
+    /// then needs no separator), a number without one, or a command letter.
+    last: Last,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Last {
+    Command,
+    Integer,
+    Decimal,
+}
+
+impl PathWriter {
+    fn new(precision: usize) -> PathWriter {
+        let precision = precision.min(MAX_PRECISION);
+        let scale = 10f64.powi(precision as i32);
+        PathWriter {
+            out: String::new(),
+            scale,
+            precision,
+            half_unit: 0.5 / scale,
+            last_command: ' ',
+            last: Last::Command,
+        }
+    }
+
+    /// `p` in grid units.
+    fn grid(&self, p: Point) -> (i128, i128) {
+        (
+            (p.x * self.scale).round() as i128,
+            (p.y * self.scale).round() as i128,
+        )
+    }
+
+    /// Writes `letter` unless it repeats the last command (SVG repeats it implicitly).
+    fn command(&mut self, letter: char) {
+        if letter != self.last_command {
+            self.out.push(letter);
+            self.last_command = letter;
+            self.last = Last::Command;
+        }
+    }
+
+    /// A line from `from` to `to` (grid units): `h` or `v` when axis-parallel.
+    fn line(&mut self, from: (i128, i128), to: (i128, i128)) {
+        let (dx, dy) = (to.0 - from.0, to.1 - from.1);
+        if dy == 0 {
+            self.command('h');
+            self.number(dx);
+        } else if dx == 0 {
+            self.command('v');
+            self.number(dy);
+        } else {
+            self.command('l');
+            self.number(dx);
+            self.number(dy);
+        }
+    }
+
+    /// Writes `units` grid units as a decimal number.
+    fn number(&mut self, units: i128) {
+        let p = self.precision;
+        let digits = format!("{:0width$}", units.unsigned_abs(), width = p + 1);
+        let (int, frac) = digits.split_at(digits.len() - p);
+        let frac = frac.trim_end_matches('0');
+        let mut text = String::new();
+        if units < 0 {
+            text.push('-');
+        }
+        // `0.5` as `.5`.
+        if int != "0" || frac.is_empty() {
+            text.push_str(int);
+        }
+        if !frac.is_empty() {
+            text.push('.');
+            text.push_str(frac);
+        }
+        let starts_with_point = text.starts_with('.');
+        let separator = match self.last {
+            Last::Command => false,
+            _ if text.starts_with('-') => false,
+            Last::Decimal => !starts_with_point,
+            Last::Integer => true,
+        };
+        if separator {
+            self.out.push(' ');
+        }
+        self.last = if text.contains('.') {
+            Last::Decimal
+        } else {
+            Last::Integer
+        };
+        self.out.push_str(&text);
+    }
 }
 
 /// What the SVG draws of a contour, in order: for each segment (or run of segments
@@ -257,12 +411,6 @@ pub(crate) fn write_point(out: &mut String, p: Point, precision: usize) {
     write_number(out, p.x, precision);
     out.push(' ');
     write_number(out, p.y, precision);
-}
-
-fn format_point(p: Point, precision: usize) -> String {
-    let mut s = String::new();
-    write_point(&mut s, p, precision);
-    s
 }
 
 /// Appends `x` rounded to `precision` decimals (at most [`MAX_PRECISION`]), with trailing
@@ -416,28 +564,26 @@ pub(crate) mod tests {
             .collect()
     }
 
-    /// Path data as (command, numbers) pairs.
+    /// Path data as absolute (command, numbers) pairs: `M`, `L`, `C` and `Z`, read by
+    /// the parser resvg uses.
     fn parse_path(d: &str) -> Vec<(char, Vec<f64>)> {
-        let mut out: Vec<(char, Vec<f64>)> = Vec::new();
-        let mut number = String::new();
-        let flush = |number: &mut String, out: &mut Vec<(char, Vec<f64>)>| {
-            if !number.is_empty() {
-                out.last_mut().unwrap().1.push(number.parse().unwrap());
-                number.clear();
-            }
-        };
-        for ch in d.chars() {
-            if ch.is_ascii_alphabetic() {
-                flush(&mut number, &mut out);
-                out.push((ch, Vec::new()));
-            } else if ch == ' ' {
-                flush(&mut number, &mut out);
-            } else {
-                number.push(ch);
-            }
-        }
-        flush(&mut number, &mut out);
-        out
+        use svgtypes::SimplePathSegment as S;
+        svgtypes::SimplifyingPathParser::from(d)
+            .map(|s| match s.unwrap() {
+                S::MoveTo { x, y } => ('M', vec![x, y]),
+                S::LineTo { x, y } => ('L', vec![x, y]),
+                S::CurveTo {
+                    x1,
+                    y1,
+                    x2,
+                    y2,
+                    x,
+                    y,
+                } => ('C', vec![x1, y1, x2, y2, x, y]),
+                S::Quadratic { .. } => panic!("no quadratics are written"),
+                S::ClosePath => ('Z', Vec::new()),
+            })
+            .collect()
     }
 
     #[test]
@@ -481,15 +627,15 @@ pub(crate) mod tests {
         for (cmd, cubic) in cmds[1..5].iter().zip(&expected) {
             assert_eq!(cmd.1.len(), 6);
             for (k, p) in cubic.points[1..].iter().enumerate() {
-                assert!((cmd.1[2 * k] - p.x).abs() <= 0.0005 + 1e-12);
-                assert!((cmd.1[2 * k + 1] - p.y).abs() <= 0.0005 + 1e-12);
+                assert!((cmd.1[2 * k] - p.x).abs() <= 0.005 + 1e-9);
+                assert!((cmd.1[2 * k + 1] - p.y).abs() <= 0.005 + 1e-9);
             }
         }
         // The written curve is a circle to within bound + rounding.
         for cmd in &cmds[1..5] {
             let v = &cmd.1;
             let end = Point::new(v[4], v[5]);
-            assert!((end.distance(Point::new(30.0, 20.0)) - 12.0).abs() < 1e-3);
+            assert!((end.distance(Point::new(30.0, 20.0)) - 12.0).abs() < 1e-2);
         }
         let mut pen = Point::new(cmds[0].1[0], cmds[0].1[1]);
         for cmd in &cmds[1..5] {
@@ -502,7 +648,7 @@ pub(crate) mod tests {
             );
             for j in 0..=32 {
                 let r = cubic.eval(j as f64 / 32.0).distance(Point::new(30.0, 20.0));
-                assert!((r - 12.0).abs() < 0.02 + 0.001, "{r}");
+                assert!((r - 12.0).abs() < 0.02 + 0.01, "{r}");
             }
             pen = cubic.points[3];
         }
@@ -524,7 +670,7 @@ pub(crate) mod tests {
         let data = path_data(&svg);
         assert_eq!(data.len(), 2, "{svg}");
         assert_eq!(data[0].matches('M').count(), 2);
-        assert_eq!(data[0].matches('Z').count(), 2);
+        assert_eq!(data[0].matches('z').count(), 2);
         assert_eq!(data[1].matches('M').count(), 1);
         assert_eq!(svg.matches("fill-rule=\"evenodd\"").count(), 2);
         assert!(!svg.contains("<!--"));
@@ -586,7 +732,7 @@ pub(crate) mod tests {
             let p = &s.curve.points;
             let want = [p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y];
             for (got, want) in cmd.1.iter().zip(want) {
-                assert!((got - want).abs() <= 0.0005 + 1e-12);
+                assert!((got - want).abs() <= 0.005 + 1e-9);
             }
         }
     }
@@ -628,5 +774,100 @@ pub(crate) mod tests {
             let d = arc.eval(j as f64 / 16.0).distance(Point::new(1.0, 2.0));
             assert!((d - 5.0).abs() < 1e-12);
         }
+    }
+    #[test]
+    fn compact_numbers_keep_their_separators() {
+        let mut w = PathWriter::new(2);
+        w.command('M');
+        for units in [1250, -5, 50, 7, -120, 0, 3, 100] {
+            w.number(units);
+        }
+        assert_eq!(w.out, "M12.5-.05.5.07-1.2 0 .03 1");
+        let mut w = PathWriter::new(0);
+        w.command('c');
+        w.number(-3);
+        w.number(4);
+        assert_eq!(w.out, "c-3 4");
+    }
+
+    #[test]
+    fn relative_path_lands_on_the_rounded_points_without_drift() {
+        // A long contour of many small cubics with awkward coordinates: every written end
+        // point, read back as absolute, is the original rounded to two decimals (a drift
+        // of one unit over 400 relative steps would show).
+        let mut c = circle(Point::new(500.123, 400.987), 300.0, false, None);
+        let template = c.segments[0].clone();
+        c.segments.clear();
+        let n = 400;
+        let at = |k: usize| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            Point::new(500.123 + 300.0 * t.cos(), 400.987 + 300.0 * t.sin())
+        };
+        for k in 0..n {
+            let mut s = template.clone();
+            let (a, b) = (at(k), at(k + 1));
+            let bulge = (b - a).perp() * 0.08;
+            s.curve.points = [
+                a,
+                a.lerp(b, 1.0 / 3.0) + bulge,
+                a.lerp(b, 2.0 / 3.0) - bulge,
+                b,
+            ];
+            s.curve.weights = [1.0, 1.0];
+            c.segments.push(s);
+        }
+        let opts = SvgOptions::default();
+        assert_eq!(opts.precision, 2);
+        let svg = to_svg(&result(1000, 800, vec![c.clone()]), &opts);
+        let cmds = parse_path(&path_data(&svg)[0]);
+        assert_eq!(cmds.len(), n + 2);
+        for (k, cmd) in cmds[1..=n].iter().enumerate() {
+            assert_eq!(cmd.0, 'C');
+            let want = c.segments[k].curve.points[3];
+            let round = |v: f64| (v * 100.0).round() / 100.0;
+            assert!(
+                (cmd.1[4] - round(want.x)).abs() < 1e-9,
+                "{k}: {:?} {want:?}",
+                cmd.1
+            );
+            assert!(
+                (cmd.1[5] - round(want.y)).abs() < 1e-9,
+                "{k}: {:?} {want:?}",
+                cmd.1
+            );
+        }
+    }
+
+    #[test]
+    fn straight_cubics_are_written_as_lines() {
+        // A square whose sides are straight cubics (control points on the side, as a
+        // least-squares fit of a line puts them) and one side bowed by 0.1 px.
+        let corners = [
+            Point::new(10.0, 10.0),
+            Point::new(50.0, 10.0),
+            Point::new(50.0, 40.0),
+            Point::new(12.5, 43.25),
+        ];
+        let mut c = circle(Point::new(30.0, 30.0), 10.0, false, None);
+        let template = c.segments[0].clone();
+        c.segments.clear();
+        for k in 0..4 {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            let mut s = template.clone();
+            let bow = if k == 1 {
+                Point::new(0.1, 0.0)
+            } else {
+                Point::new(0.0, 0.0)
+            };
+            s.curve.points = [a, a.lerp(b, 0.3) + bow, a.lerp(b, 0.7) + bow, b];
+            s.curve.weights = [1.0, 1.0];
+            c.segments.push(s);
+        }
+        let svg = to_svg(&result(64, 64, vec![c]), &SvgOptions::default());
+        let d = &path_data(&svg)[0];
+        assert_eq!(
+            d, "M10 10h40c.1 9 .1 21 0 30l-37.5 3.25-2.5-33.25z",
+            "{svg}"
+        );
     }
 }
