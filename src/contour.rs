@@ -250,7 +250,7 @@ enum EdgeEstimator {
 ///
 /// Errors: [`Error::InvalidOption`] when `min_area` is negative or not finite, or when the
 /// bitmap's public `width`/`height` were changed so that they no longer match its
-/// coverage.
+/// coverage, or exceed 2³¹ − 4.
 pub fn extract_contours(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Vec<Contour>> {
     Ok(extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)?.contours)
 }
@@ -290,7 +290,7 @@ pub(crate) enum PixelTrace {
 impl Border {
     /// The pixel-edge midpoints of the border, in walking order (foreground on the right).
     pub(crate) fn midpoints(&self) -> impl Iterator<Item = Point> + '_ {
-        self.cracks.iter().map(|c| c.mid)
+        self.cracks.iter().map(|c| c.mid())
     }
 
     /// True when a pixel on either side of the border (index row × `width` + column)
@@ -302,11 +302,7 @@ impl Border {
                 .flatten()
         };
         self.cracks.iter().any(|k| {
-            let outside = (
-                k.inside.0 + k.normal.x as i64,
-                k.inside.1 + k.normal.y as i64,
-            );
-            [k.inside, outside]
+            [k.inside(), k.outside()]
                 .into_iter()
                 .any(|p| index(p).is_some_and(|i| pixels.contains(&i)))
         })
@@ -369,16 +365,7 @@ impl Extraction {
             let mut stack: Vec<(i64, i64)> = border
                 .cracks
                 .iter()
-                .map(|k| {
-                    if shape {
-                        k.inside
-                    } else {
-                        (
-                            k.inside.0 + k.normal.x as i64,
-                            k.inside.1 + k.normal.y as i64,
-                        )
-                    }
-                })
+                .map(|k| if shape { k.inside() } else { k.outside() })
                 .collect();
             let mut seen: std::collections::HashSet<(i64, i64)> = std::collections::HashSet::new();
             while let Some((c, r)) = stack.pop() {
@@ -434,7 +421,10 @@ fn extract_with(
     let (w, h) = (bitmap.width as usize, bitmap.height as usize);
     let mut mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
         name: "bitmap",
-        message: "cannot build the padded mask".to_string(),
+        message: format!(
+            "{w}×{h} is too wide or tall to trace (limit {} px)",
+            i32::MAX - 3
+        ),
     })?;
     let empty = |mask| Extraction {
         contours: Vec::new(),
@@ -525,7 +515,7 @@ fn follows_cracks(points: &[Point], cracks: &[Crack]) -> bool {
     if points.len() < 3 || cracks.len() < 3 {
         return false;
     }
-    let mids: Vec<Point> = cracks.iter().map(|c| c.mid).collect();
+    let mids: Vec<Point> = cracks.iter().map(|c| c.mid()).collect();
     let length = mids.len() as f64;
     if (signed_area(points).abs() - signed_area(&mids).abs()).abs() > 0.35 * length {
         return false;
@@ -557,7 +547,7 @@ fn follows_cracks(points: &[Point], cracks: &[Crack]) -> bool {
 /// bilevel outline (corners slightly rounded, later sharpened by the break finder where
 /// their sides are straight).
 fn smoothed_cracks(cracks: &[Crack]) -> Vec<Point> {
-    let mut pts: Vec<Point> = cracks.iter().map(|c| c.mid).collect();
+    let mut pts: Vec<Point> = cracks.iter().map(|c| c.mid()).collect();
     let n = pts.len();
     if n < 3 {
         return pts;
@@ -997,9 +987,9 @@ impl Workspace {
     /// corners.
     fn bilevel_outline(&mut self, cracks: &[Crack], mask: &PaddedMask) -> Vec<Point> {
         self.raw.clear();
-        self.raw.extend(cracks.iter().map(|c| c.mid));
+        self.raw.extend(cracks.iter().map(|c| c.mid()));
         self.normals.clear();
-        self.normals.extend(cracks.iter().map(|c| c.normal));
+        self.normals.extend(cracks.iter().map(|c| c.normal()));
         self.points.clear();
         self.points.extend_from_slice(&self.raw);
         let n = self.points.len();
@@ -2150,10 +2140,10 @@ fn intersect(a: Line, b: Line) -> Option<Point> {
 /// it summed over both rows. Both are per pixel after dividing by 4, so the common factor
 /// is dropped.
 fn gradient_normal(bitmap: &Bitmap, crack: &Crack) -> Option<Point> {
-    let n = crack.normal;
+    let n = crack.normal();
     let t = n.perp();
     // Pixel indices of the foreground (inside) and background (outside) pixels.
-    let (ic, ir) = crack.inside;
+    let (ic, ir) = crack.inside();
     let (nx, ny) = (n.x as i64, n.y as i64);
     let (tx, ty) = (t.x as i64, t.y as i64);
     let at = |c: i64, r: i64| f64::from(bitmap.coverage_at(c, r));
@@ -2170,11 +2160,11 @@ fn gradient_normal(bitmap: &Bitmap, crack: &Crack) -> Option<Point> {
 /// Moves a crack midpoint to the edge; returns the point and the normal used.
 fn refine_crack(bitmap: &Bitmap, crack: &Crack, estimator: EdgeEstimator) -> (Point, Point) {
     let n = gradient_normal(bitmap, crack)
-        .filter(|g| g.dot(crack.normal) >= MIN_NORMAL_AGREEMENT)
-        .unwrap_or(crack.normal);
+        .filter(|g| g.dot(crack.normal()) >= MIN_NORMAL_AGREEMENT)
+        .unwrap_or(crack.normal());
     let s = match estimator {
-        EdgeEstimator::CoverageIntegral => Some(integrate_edge(bitmap, crack.mid, n)),
-        EdgeEstimator::LevelCrossing => level_crossing(bitmap, crack.mid, n),
+        EdgeEstimator::CoverageIntegral => Some(integrate_edge(bitmap, crack.mid(), n)),
+        EdgeEstimator::LevelCrossing => level_crossing(bitmap, crack.mid(), n),
     };
     match s {
         // The edge must also stay where the thresholded pixels put it: within
@@ -2185,22 +2175,22 @@ fn refine_crack(bitmap: &Bitmap, crack: &Crack, estimator: EdgeEstimator) -> (Po
         Some(s)
             if s.is_finite()
                 && s.abs() <= MAX_SHIFT
-                && (n * s).dot(crack.normal).abs() <= MAX_CRACK_SHIFT =>
+                && (n * s).dot(crack.normal()).abs() <= MAX_CRACK_SHIFT =>
         {
-            (crack.mid + n * s, n)
+            (crack.mid() + n * s, n)
         }
         _ => {
             // Fall back to the threshold crossing between the two pixel centres.
-            let half = crack.normal * 0.5;
-            let f_in = bitmap.sample(crack.mid - half);
-            let f_out = bitmap.sample(crack.mid + half);
+            let half = crack.normal() * 0.5;
+            let f_in = bitmap.sample(crack.mid() - half);
+            let f_out = bitmap.sample(crack.mid() + half);
             let t = bitmap.threshold();
             let s = if f_in > f_out {
                 ((f_in - t) / (f_in - f_out) - 0.5).clamp(-0.5, 0.5)
             } else {
                 0.0
             };
-            (crack.mid + crack.normal * s, crack.normal)
+            (crack.mid() + crack.normal() * s, crack.normal())
         }
     }
 }
@@ -2931,8 +2921,8 @@ mod tests {
             .swap_remove(0)
             .cracks;
         let mut w = Workspace::default();
-        w.raw.extend(cracks.iter().map(|c| c.mid));
-        w.normals.extend(cracks.iter().map(|c| c.normal));
+        w.raw.extend(cracks.iter().map(|c| c.mid()));
+        w.normals.extend(cracks.iter().map(|c| c.normal()));
         w.run_weights();
         w.scratch = w.raw.clone();
         let top: Vec<usize> = (0..w.raw.len())
@@ -3003,26 +2993,16 @@ mod tests {
     #[test]
     fn crack_guard_rejects_outlines_off_the_pixels() {
         // Pixel-edge midpoints of a 10 × 10 square of pixels at (5, 5).
-        let mut cracks = Vec::new();
-        let mut push = |x: f64, y: f64, nx: f64, ny: f64| {
-            cracks.push(Crack {
-                inside: (0, 0),
-                mid: Point::new(x, y),
-                normal: Point::new(nx, ny),
-            })
-        };
-        for i in 0..10 {
-            push(5.5 + i as f64, 5.0, 0.0, -1.0);
-        }
-        for i in 0..10 {
-            push(15.0, 5.5 + i as f64, 1.0, 0.0);
-        }
-        for i in 0..10 {
-            push(14.5 - i as f64, 15.0, 0.0, 1.0);
-        }
-        for i in 0..10 {
-            push(5.0, 14.5 - i as f64, -1.0, 0.0);
-        }
+        let cov = binary(20, 20, |x, y| {
+            (5.0..15.0).contains(&x) && (5.0..15.0).contains(&y)
+        });
+        let bm = Bitmap::from_coverage(20, 20, cov, Some(0.5)).unwrap();
+        let cracks = PaddedMask::new(&bm)
+            .unwrap()
+            .borders()
+            .swap_remove(0)
+            .cracks;
+        assert_eq!(cracks.len(), 40);
         let smooth = smoothed_cracks(&cracks);
         assert!(follows_cracks(&smooth, &cracks));
         let shifted: Vec<Point> = smooth.iter().map(|&p| p + Point::new(2.0, 0.0)).collect();
@@ -3031,7 +3011,7 @@ mod tests {
         // the far sides but loses a large area.
         let cut: Vec<Point> = cracks
             .iter()
-            .map(|c| c.mid)
+            .map(|c| c.mid())
             .filter(|m| m.x + m.y > 15.0)
             .collect();
         assert!(!follows_cracks(&cut, &cracks));

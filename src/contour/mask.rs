@@ -13,15 +13,49 @@
 use crate::geom::Point;
 use crate::raster::Bitmap;
 
-/// One pixel edge between a foreground and a background pixel, in image coordinates.
+/// One pixel edge between a foreground and a background pixel: the vertex it leaves (in
+/// padded coordinates) and its direction, with the foreground on its right. Twelve bytes,
+/// since a large image has millions and every border keeps its own; the geometry is
+/// derived on demand.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Crack {
+    x: i32,
+    y: i32,
+    dir: u8,
+}
+
+impl Crack {
     /// The foreground pixel (column, row) in image coordinates.
-    pub(super) inside: (i64, i64),
-    /// Midpoint of the pixel edge.
-    pub(super) mid: Point,
-    /// Unit normal from the foreground pixel to the background pixel.
-    pub(super) normal: Point,
+    #[inline]
+    pub(super) fn inside(self) -> (i64, i64) {
+        let ((rx, ry), _) = side_pixels(i64::from(self.x), i64::from(self.y), self.dir.into());
+        (rx - 1, ry - 1)
+    }
+
+    /// Midpoint of the pixel edge, in image coordinates.
+    #[inline]
+    pub(super) fn mid(self) -> Point {
+        let (dx, dy) = DIRS[usize::from(self.dir)];
+        Point::new(
+            f64::from(self.x) + 0.5 * dx as f64 - 1.0,
+            f64::from(self.y) + 0.5 * dy as f64 - 1.0,
+        )
+    }
+
+    /// Unit normal from the foreground pixel to the background pixel (the crack's left).
+    #[inline]
+    pub(super) fn normal(self) -> Point {
+        let (lx, ly) = DIRS[(usize::from(self.dir) + 3) % 4];
+        Point::new(lx as f64, ly as f64)
+    }
+
+    /// The background pixel across the crack, in image coordinates.
+    #[inline]
+    pub(super) fn outside(self) -> (i64, i64) {
+        let (lx, ly) = DIRS[(usize::from(self.dir) + 3) % 4];
+        let (c, r) = self.inside();
+        (c + lx, r + ly)
+    }
 }
 
 /// Directions on the vertex grid: east, south, west, north (clockwise on screen).
@@ -132,10 +166,13 @@ pub(super) struct PaddedMask {
 }
 
 impl PaddedMask {
-    /// `None` only if the padded size overflows (callers check the size first).
+    /// `None` when the padded size does not fit the cracks' 32-bit coordinates.
     pub(super) fn new(bitmap: &Bitmap) -> Option<PaddedMask> {
         let (w, h) = (bitmap.width as usize, bitmap.height as usize);
         let pw = w + 2;
+        // Cracks store their vertices as i32.
+        i32::try_from(pw + 1).ok()?;
+        i32::try_from(h + 3).ok()?;
         let mut data = vec![0u8; pw * (h + 2)];
         let t = bitmap.threshold();
         let mut row = vec![0.0; w];
@@ -178,15 +215,11 @@ impl PaddedMask {
         let limit = 4 * self.width * self.height + 4;
         for _ in 0..limit {
             let (dx, dy) = DIRS[d];
-            let (lx, ly) = DIRS[(d + 3) % 4];
-            let ((rx, ry), _) = side_pixels(x, y, d);
+            // Coordinates fit: `new` refuses masks wider or taller than i32 allows.
             out.push(Crack {
-                inside: (rx - 1, ry - 1),
-                mid: Point::new(
-                    x as f64 + 0.5 * dx as f64 - 1.0,
-                    y as f64 + 0.5 * dy as f64 - 1.0,
-                ),
-                normal: Point::new(lx as f64, ly as f64),
+                x: x as i32,
+                y: y as i32,
+                dir: d as u8,
             });
             x += dx;
             y += dy;
@@ -295,16 +328,17 @@ impl PaddedMask {
     }
 }
 
-/// The padded (column, row) of a vertical crack's mask byte: the pixel on its right.
-/// `None` for a horizontal crack.
+/// The padded (column, row) of the pixel on the right of a vertical crack (whose bit in
+/// `traced` marks it). `None` for a horizontal crack.
 fn vertical_crack(c: &Crack) -> Option<(usize, usize)> {
-    let (col, row) = (c.inside.0 + 1, c.inside.1 + 1);
-    let x = match c.normal.x {
-        n if n < 0.0 => col,
-        n if n > 0.0 => col + 1,
-        _ => return None,
-    };
-    Some((x as usize, row as usize))
+    let (x, y) = (c.x as usize, c.y as usize);
+    match c.dir {
+        // Down from (x, y): the crack between vertices (x, y) and (x, y + 1).
+        1 => Some((x, y)),
+        // Up from (x, y): the crack between vertices (x, y − 1) and (x, y).
+        3 => Some((x, y - 1)),
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -370,7 +404,11 @@ mod tests {
                 assert_eq!(a.parent, b.parent, "case {case}, border {i}: parent");
                 let first = b.points[0];
                 let first = (i64::from(first.x) - 1, i64::from(first.y) - 1);
-                assert_eq!(a.cracks[0].inside, first, "case {case}, border {i}: start");
+                assert_eq!(
+                    a.cracks[0].inside(),
+                    first,
+                    "case {case}, border {i}: start"
+                );
                 holes += usize::from(a.is_hole);
                 islands += usize::from(!a.is_hole && a.parent.is_some());
             }
@@ -394,10 +432,10 @@ mod tests {
             let mut seen = std::collections::HashSet::new();
             for b in &found {
                 for c in &b.cracks {
-                    let key = ((c.mid.x * 2.0) as i64, (c.mid.y * 2.0) as i64);
-                    assert!(seen.insert(key), "crack at {:?} on two borders", c.mid);
+                    let key = ((c.mid().x * 2.0) as i64, (c.mid().y * 2.0) as i64);
+                    assert!(seen.insert(key), "crack at {:?} on two borders", c.mid());
                 }
-                let (first, last) = (b.cracks[0].mid, b.cracks[b.cracks.len() - 1].mid);
+                let (first, last) = (b.cracks[0].mid(), b.cracks[b.cracks.len() - 1].mid());
                 assert!(first.distance(last) <= 1.0, "open loop");
             }
             let (w, h) = (mask.width, mask.height);
