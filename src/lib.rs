@@ -311,6 +311,11 @@ fn nothing_traced(bitmap: &Bitmap, min_area: f64) -> Error {
     Error::AllBelowMinArea { shapes, min_area }
 }
 
+/// Fewest contour points outside the largest contour for which [`trace_bitmap`] fits
+/// contours in parallel: about 50 ms of fitting that another thread can take, against
+/// well under a millisecond to start a thread pool.
+const PARALLEL_FIT_POINTS: usize = 4000;
+
 /// Traces an already loaded bitmap.
 ///
 /// With `config.check` (the default) the drawn outline is checked against the thresholded
@@ -356,11 +361,33 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         }
         Ok(fitted)
     };
-    let mut fitted = extraction
-        .contours
-        .iter()
-        .enumerate()
-        .map(|(i, c)| fit_one(find_breaks(c, &break_options), i, false))
+    let fit_indexed = |(i, c): (usize, &Contour)| fit_one(find_breaks(c, &break_options), i, false);
+    // Contours are fitted independently (a metaheuristic's generator is seeded by the
+    // contour's index), so on a page of text they are fitted in parallel, on the current
+    // rayon pool (`batch`'s, or the global one for a single image); images with little
+    // work beside their largest contour stay on this thread, where starting the pool
+    // would cost more than it saves. The results,
+    // and the first error in contour order, are the same on any number of threads.
+    let sizes = extraction.contours.iter().map(|c| c.points.len());
+    let (points, largest) = sizes.fold((0, 0), |(sum, max), n| (sum + n, max.max(n)));
+    let results: Vec<Result<FittedContour>> = if points - largest >= PARALLEL_FIT_POINTS {
+        use rayon::prelude::*;
+        extraction
+            .contours
+            .par_iter()
+            .enumerate()
+            .map(fit_indexed)
+            .collect()
+    } else {
+        extraction
+            .contours
+            .iter()
+            .enumerate()
+            .map(fit_indexed)
+            .collect()
+    };
+    let mut fitted = results
+        .into_iter()
         .collect::<Result<Vec<FittedContour>>>()?;
     let fidelity = if config.check {
         let bound = lsq_options.export_bound;

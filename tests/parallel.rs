@@ -1,0 +1,87 @@
+//! An image with many contours has them fitted in parallel; the result must not depend on
+//! the number of threads, down to the last bit of every number.
+
+use outlinefit::export::svg::{to_svg, SvgOptions};
+use outlinefit::raster::Bitmap;
+use outlinefit::{extract_contours, trace_bitmap, Config, ContourOptions, TraceResult};
+
+/// A 480 × 360 page of 12 × 9 anti-aliased rings and disks (4 × 4 supersampled), radii
+/// 9 to 15 px: about a hundred contours of similar size.
+fn page() -> Bitmap {
+    let (w, h) = (480usize, 360usize);
+    let shapes: Vec<(f64, f64, f64, bool)> = (0..12 * 9)
+        .map(|k| {
+            let (i, j) = (k % 12, k / 12);
+            let r = 9.0 + (k * 7 % 13) as f64 / 2.0;
+            let centre = (
+                20.0 + 40.0 * i as f64 + 0.37 * j as f64,
+                20.0 + 40.0 * j as f64,
+            );
+            (centre.0, centre.1, r, k % 3 == 0)
+        })
+        .collect();
+    let inside = |x: f64, y: f64| {
+        shapes.iter().any(|&(cx, cy, r, ring)| {
+            let d = ((x - cx).powi(2) + (y - cy).powi(2)).sqrt();
+            d < r && !(ring && d < 0.45 * r)
+        })
+    };
+    let mut coverage = vec![0.0f32; w * h];
+    for (i, c) in coverage.iter_mut().enumerate() {
+        let (px, py) = ((i % w) as f64, (i / w) as f64);
+        let mut n = 0;
+        for sy in 0..4 {
+            for sx in 0..4 {
+                let (x, y) = (px + (sx as f64 + 0.5) / 4.0, py + (sy as f64 + 0.5) / 4.0);
+                n += u32::from(inside(x, y));
+            }
+        }
+        *c = n as f32 / 16.0;
+    }
+    Bitmap::from_coverage(w as u32, h as u32, coverage, None).unwrap()
+}
+
+fn on_threads(threads: usize, bitmap: &Bitmap, config: &Config) -> TraceResult {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| trace_bitmap(bitmap, config).unwrap())
+}
+
+#[test]
+fn many_contours_give_the_same_result_on_one_and_three_threads() {
+    let bitmap = page();
+    // Enough work outside the largest contour for the parallel path.
+    let contours = extract_contours(&bitmap, &ContourOptions { min_area: 2.0 }).unwrap();
+    let sizes: Vec<usize> = contours.iter().map(|c| c.points.len()).collect();
+    let beside_largest = sizes.iter().sum::<usize>() - sizes.iter().max().unwrap();
+    assert!(contours.len() >= 140 && beside_largest >= 6000, "{sizes:?}");
+    for optimizer in ["lsq", "hs"] {
+        let config = Config {
+            optimizer: optimizer.to_string(),
+            budget: 300,
+            seed: 9,
+            timings: false,
+            ..Config::default()
+        };
+        let one = on_threads(1, &bitmap, &config);
+        let three = on_threads(3, &bitmap, &config);
+        assert_eq!(one.contours.len(), contours.len());
+        assert_eq!(one.segment_count(), three.segment_count(), "{optimizer}");
+        assert_eq!(
+            one.sum_sq().to_bits(),
+            three.sum_sq().to_bits(),
+            "{optimizer}"
+        );
+        for (a, b) in one.contours.iter().zip(&three.contours) {
+            for (s, t) in a.segments.iter().zip(&b.segments) {
+                assert_eq!(s.curve.points, t.curve.points, "{optimizer}");
+                assert_eq!(s.curve.weights, t.curve.weights, "{optimizer}");
+            }
+        }
+        let opts = SvgOptions::default();
+        assert_eq!(to_svg(&one, &opts), to_svg(&three, &opts), "{optimizer}");
+        assert!(one.fidelity.held, "{optimizer}");
+    }
+}
