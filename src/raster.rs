@@ -602,7 +602,7 @@ pub enum AlphaRule {
 /// Bytes per pixel that tracing needs beyond the decoded image: the coverage levels (2,
 /// none when an 8-bit grey image's own buffer becomes them) and the thresholded mask
 /// while it is built (1), with room to spare (measured peak on a 4096 × 3359 grey
-/// silhouette: 38 MB in all, 2.8 bytes per pixel including the decoded image).
+/// silhouette: 34 MB in all, 2.5 bytes per pixel including the decoded image).
 const TRACE_BYTES_PER_PIXEL: u64 = 4;
 
 /// Checks that decoding (`decoded_bpp` bytes per pixel) and tracing a `width`×`height`
