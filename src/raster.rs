@@ -676,17 +676,24 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
         }
     };
     let coverage = match img {
+        // (An image buffer may be longer than its pixels: only those are kept.)
         Cow::Owned(DynamicImage::ImageLuma8(b)) => {
-            Levels::bytes(b.into_raw(), |v| value(u8_value(v), 1.0))
+            let mut raw = b.into_raw();
+            raw.truncate(pixels as usize);
+            Levels::bytes(raw, |v| value(u8_value(v), 1.0))
         }
         Cow::Borrowed(DynamicImage::ImageLuma8(b)) => {
-            Levels::bytes(b.as_raw().clone(), |v| value(u8_value(v), 1.0))
+            let raw = b.as_raw().iter().take(pixels as usize).copied().collect();
+            Levels::bytes(raw, |v| value(u8_value(v), 1.0))
         }
         Cow::Owned(DynamicImage::ImageLuma16(b)) => {
-            Levels::words(b.into_raw(), |v| value(u16_value(v), 1.0))
+            let mut raw = b.into_raw();
+            raw.truncate(pixels as usize);
+            Levels::words(raw, |v| value(u16_value(v), 1.0))
         }
         Cow::Borrowed(DynamicImage::ImageLuma16(b)) => {
-            Levels::words(b.as_raw().clone(), |v| value(u16_value(v), 1.0))
+            let raw = b.as_raw().iter().take(pixels as usize).copied().collect();
+            Levels::words(raw, |v| value(u16_value(v), 1.0))
         }
         other => {
             let mut levels = Vec::with_capacity(pixels as usize);
@@ -1099,6 +1106,38 @@ mod tests {
         assert!(b.dark_border());
         let b = Bitmap::from_coverage(1, 3, vec![1.0, 0.0, 0.0], Some(0.5)).unwrap();
         assert!(!b.dark_border());
+    }
+
+    #[test]
+    fn grey_levels_are_stored_exactly() {
+        // Every 8-bit and a spread of 16-bit levels, plain and inverted: the stored
+        // coverage is bit for bit the float conversion's (1 − v/255, v/255).
+        let img = GrayImage::from_raw(256, 1, (0..=255u8).collect()).unwrap();
+        let wide = image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_raw(
+            1024,
+            1,
+            (0..1024u32).map(|v| (v * 64 + v / 16) as u16).collect(),
+        )
+        .unwrap();
+        for invert in [false, true] {
+            let o = RasterOptions { invert, ..opts() };
+            let b = from_image(&DynamicImage::ImageLuma8(img.clone()), &o).unwrap();
+            for (v, c) in (0..=255u8).zip(b.to_coverage()) {
+                let l = f32::from(v) / 255.0;
+                let want = if invert { 1.0 - (1.0 - l) } else { 1.0 - l };
+                assert_eq!(c.to_bits(), want.to_bits(), "{v} {invert}");
+            }
+            let b = from_image(&DynamicImage::ImageLuma16(wide.clone()), &o).unwrap();
+            for (&v, c) in wide.as_raw().iter().zip(b.to_coverage()) {
+                let l = f32::from(v) / 65535.0;
+                let want = if invert { 1.0 - (1.0 - l) } else { 1.0 - l };
+                assert_eq!(c.to_bits(), want.to_bits(), "{v} {invert}");
+            }
+        }
+        // A buffer longer than its pixels keeps only the pixels.
+        let long = GrayImage::from_raw(2, 2, vec![0, 255, 255, 0, 7, 7]).unwrap();
+        let b = from_image(&DynamicImage::ImageLuma8(long), &opts()).unwrap();
+        assert_eq!(b.to_coverage(), vec![1.0, 0.0, 0.0, 1.0]);
     }
 
     #[test]
