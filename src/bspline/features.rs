@@ -10,7 +10,7 @@
 //!   (uᵢ₊½, κᵢ₊½), (uᵢ₊₁, κᵢ₊₁).
 //! * **Extreme curvature**: a local maximum of |κ| at a grid point is located by the vertex
 //!   of the parabola through the three neighbouring values. Algorithm 1 writes the test on
-//!   the signed ρ (local minima included); we follow DESIGN.md and keep only maxima of |κ|,
+//!   the signed ρ (local minima included); only maxima of |κ| are kept here,
 //!   because a minimum of |κ| is where the curve is flattest, the least informative place
 //!   for a sample.
 //!

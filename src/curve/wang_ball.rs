@@ -1,8 +1,8 @@
 //! Wang–Ball curves and disk Wang–Ball (DWB) curves.
 //!
 //! A Wang–Ball curve of degree n is `W(t) = Σ_{i=0}^{n} W_{i,n}(t) p_i`, `t ∈ [0, 1]`, where
-//! the Wang–Ball basis `W_{i,n}` (Eq. 2 of "Approximate merging of disk Wang–Ball curves"
-//! with BEESO, `/work/shared/papers/disk-wang-ball-merging-beeso.txt`, §2.1) is, with
+//! the Wang–Ball basis `W_{i,n}` (Eq. 2 of "Approximate merging of disk Wang–Ball curves
+//! with BEESO", §2.1) is, with
 //! `h = ⌊n/2⌋` and `H = ⌈n/2⌉`:
 //!
 //! * `W_i(t) = (2t)^i (1−t)^{i+2}` for `0 ≤ i ≤ h − 1`,
@@ -12,8 +12,8 @@
 //!
 //! For even n the two middle formulas describe the same function (`h = H`), which is used
 //! once. The paper's text extraction lost the floor and ceiling brackets of Eq. 2; they are
-//! restored here as recorded in `/work/shared/papers/NOTES.md`, which makes the basis a
-//! partition of unity for every n. Like the Bernstein basis, the Wang–Ball basis spans the
+//! restored here, which makes the basis a partition of unity for every n (a test checks
+//! it). Like the Bernstein basis, the Wang–Ball basis spans the
 //! polynomials of degree ≤ n, so every Wang–Ball curve is a Bézier curve of the same degree
 //! and vice versa ([`wang_ball_to_bernstein`], [`bernstein_to_wang_ball`]). For n ≤ 3 it is
 //! the Said–Ball / cubic Ball basis; its lower-degree factors make evaluation cheaper than

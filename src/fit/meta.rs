@@ -7,7 +7,7 @@
 //! * [`Search::Full`], the HS paper's formulation (§6.1–6.3): the optimizer searches C1,
 //!   C2, w1, w2 with odd segments free and even segments collinear-constrained at their
 //!   joints ([`super::paper`]).
-//! * [`Search::Weights`], the separable formulation of DESIGN.md: the optimizer searches
+//! * [`Search::Weights`], the separable formulation (variable projection): the optimizer searches
 //!   only the weights (w1, w2) (in the coordinates of [`WeightsProblem`]); the control
 //!   points are solved by least squares for each candidate. Each smooth joint keeps the unit tangent of the `lsq` fit, which both
 //!   neighbours share, so G1 is exact and segments are independent.
