@@ -451,7 +451,6 @@ fn extract_with(
     let mut work = Workspace::default();
     let mut traced: Vec<Option<Contour>> = Vec::with_capacity(found.len());
     let mut borders = Vec::with_capacity(found.len());
-    let mut parents = Vec::with_capacity(found.len());
     for border in found {
         let (cracks, is_hole) = (border.cracks, border.is_hole);
         let contour = if cracks.is_empty() {
@@ -487,13 +486,13 @@ fn extract_with(
             finish(points, is_hole, border.parent, opts.min_area)
         };
         traced.push(contour);
-        parents.push(border.parent);
         borders.push(Border {
             cracks,
             is_hole,
             parent: border.parent,
         });
     }
+    let parents = borders.iter().map(|b| b.parent).collect();
     let (contours, border_of) = renumber(traced, parents);
     Ok(Extraction {
         contours,

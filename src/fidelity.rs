@@ -156,6 +156,18 @@ fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
         .collect()
 }
 
+/// Edge `k` of polyline `contour` (from point k to the next, closing the loop).
+#[inline]
+fn edge_of(polylines: &[Vec<Point>], (contour, k): (u32, u32)) -> Edge {
+    let line = &polylines[contour as usize];
+    let k = k as usize;
+    Edge {
+        a: line[k],
+        b: line[(k + 1) % line.len()],
+        contour,
+    }
+}
+
 /// A uniform grid of edges (compressed rows: `start[cell]..start[cell + 1]` index `items`).
 struct EdgeGrid<'a> {
     polylines: &'a [Vec<Point>],
@@ -178,39 +190,9 @@ impl<'a> EdgeGrid<'a> {
                 edges.extend((0..line.len() as u32).map(|k| (i as u32, k)));
             }
         }
-        let grid = EdgeGrid {
-            polylines,
-            edges,
-            cell: 0.0,
-            cols: 0,
-            rows: 0,
-            start: Vec::new(),
-            items: Vec::new(),
-        };
-        grid.with_cells(width, height)
-    }
-
-    /// The edge with end points copied out.
-    #[inline]
-    fn edge(&self, (contour, k): (u32, u32)) -> Edge {
-        let line = &self.polylines[contour as usize];
-        let k = k as usize;
-        Edge {
-            a: line[k],
-            b: line[(k + 1) % line.len()],
-            contour,
-        }
-    }
-
-    /// Every edge, in order.
-    fn all_edges(&self) -> impl Iterator<Item = Edge> + '_ {
-        self.edges.iter().map(|&e| self.edge(e))
-    }
-
-    /// Fills the cells for an image of `width` × `height` px.
-    fn with_cells(mut self, width: u32, height: u32) -> EdgeGrid<'a> {
+        let all_edges = || edges.iter().map(|&e| edge_of(polylines, e));
         let area = f64::from(width) * f64::from(height);
-        let max_cells = (CELLS_PER_EDGE * self.edges.len() as f64).max(MIN_CELLS);
+        let max_cells = (CELLS_PER_EDGE * edges.len() as f64).max(MIN_CELLS);
         let cell = CELL.max((area / max_cells).sqrt());
         let cols = (f64::from(width) / cell).ceil() as i64 + 1;
         let rows = (f64::from(height) / cell).ceil() as i64 + 1;
@@ -223,7 +205,7 @@ impl<'a> EdgeGrid<'a> {
             (c0, c1, r0, r1)
         };
         let mut count = vec![0u32; cells + 1];
-        for e in self.all_edges() {
+        for e in all_edges() {
             let (c0, c1, r0, r1) = range(&e);
             for r in r0..=r1 {
                 for c in c0..=c1 {
@@ -237,7 +219,7 @@ impl<'a> EdgeGrid<'a> {
         let mut items = vec![0u32; count[cells] as usize];
         // `count[cell]` serves as the cell's fill cursor, which ends at the next cell's
         // start; shifting by one afterwards restores the starts.
-        for (i, e) in self.all_edges().enumerate() {
+        for (i, e) in all_edges().enumerate() {
             let (c0, c1, r0, r1) = range(&e);
             for r in r0..=r1 {
                 for c in c0..=c1 {
@@ -249,12 +231,26 @@ impl<'a> EdgeGrid<'a> {
         }
         count.copy_within(0..cells, 1);
         count[0] = 0;
-        self.cell = cell;
-        self.cols = cols;
-        self.rows = rows;
-        self.start = count;
-        self.items = items;
-        self
+        EdgeGrid {
+            polylines,
+            edges,
+            cell,
+            cols,
+            rows,
+            start: count,
+            items,
+        }
+    }
+
+    /// The edge with end points copied out.
+    #[inline]
+    fn edge(&self, e: (u32, u32)) -> Edge {
+        edge_of(self.polylines, e)
+    }
+
+    /// Every edge, in order.
+    fn all_edges(&self) -> impl Iterator<Item = Edge> + '_ {
+        self.edges.iter().map(|&e| self.edge(e))
     }
 
     /// Nearest edge to `p` within `reach` px (of contour `only`, if given): distance and

@@ -568,6 +568,13 @@ fn for_each_luma_alpha(img: &DynamicImage, mut f: impl FnMut(f32, f32)) {
     }
 }
 
+/// The first `pixels` samples of a one-channel image buffer (which may be longer than its
+/// image).
+fn first_pixels<T>(mut raw: Vec<T>, pixels: u64) -> Vec<T> {
+    raw.truncate(usize::try_from(pixels).unwrap_or(usize::MAX));
+    raw
+}
+
 /// An 8-bit channel value on the [0, 1] scale. A division, not a multiplication by the
 /// reciprocal: the same value as `image`'s own conversion to floats.
 fn u8_value(v: u8) -> f32 {
@@ -675,25 +682,24 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
             c
         }
     };
-    let coverage = match img {
-        // (An image buffer may be longer than its pixels: only those are kept.)
-        Cow::Owned(DynamicImage::ImageLuma8(b)) => {
-            let mut raw = b.into_raw();
-            raw.truncate(pixels as usize);
-            Levels::bytes(raw, |v| value(u8_value(v), 1.0))
+    // A grey image's own buffer becomes the levels: taken over when the image is owned,
+    // copied when it is borrowed (as any conversion would copy it).
+    let img = match img {
+        Cow::Borrowed(grey @ (DynamicImage::ImageLuma8(_) | DynamicImage::ImageLuma16(_))) => {
+            Cow::Owned(grey.clone())
         }
-        Cow::Borrowed(DynamicImage::ImageLuma8(b)) => {
-            let raw = b.as_raw().iter().take(pixels as usize).copied().collect();
-            Levels::bytes(raw, |v| value(u8_value(v), 1.0))
+        other => other,
+    };
+    let coverage = match img {
+        Cow::Owned(DynamicImage::ImageLuma8(b)) => {
+            Levels::bytes(first_pixels(b.into_raw(), pixels), |v| {
+                value(u8_value(v), 1.0)
+            })
         }
         Cow::Owned(DynamicImage::ImageLuma16(b)) => {
-            let mut raw = b.into_raw();
-            raw.truncate(pixels as usize);
-            Levels::words(raw, |v| value(u16_value(v), 1.0))
-        }
-        Cow::Borrowed(DynamicImage::ImageLuma16(b)) => {
-            let raw = b.as_raw().iter().take(pixels as usize).copied().collect();
-            Levels::words(raw, |v| value(u16_value(v), 1.0))
+            Levels::words(first_pixels(b.into_raw(), pixels), |v| {
+                value(u16_value(v), 1.0)
+            })
         }
         other => {
             let mut levels = Vec::with_capacity(pixels as usize);

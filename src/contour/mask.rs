@@ -255,8 +255,6 @@ impl PaddedMask {
     /// children. Marks the traced cracks in the mask.
     pub(super) fn borders(&mut self) -> Vec<FoundBorder> {
         let (w, h) = (self.width as usize, self.height as usize);
-        // (row, column) of each border's first crack, in padded coordinates.
-        let mut starts: Vec<(usize, usize)> = Vec::new();
         let mut found: Vec<FoundBorder> = Vec::new();
         let mut cracks = Vec::new();
         for y in 1..h.saturating_sub(1) {
@@ -278,7 +276,6 @@ impl PaddedMask {
                 for (cx, cy) in cracks.iter().filter_map(vertical_crack) {
                     self.traced.set(cy * w + cx);
                 }
-                starts.push((y, x));
                 found.push(FoundBorder {
                     cracks: std::mem::take(&mut cracks),
                     is_hole,
@@ -309,7 +306,10 @@ impl PaddedMask {
             by_row[row_start[y]..row_start[y + 1]].sort_unstable();
         }
         for i in 0..found.len() {
-            let (y, x) = starts[i];
+            // Every border starts with the vertical crack the scan found it by.
+            let Some((x, y)) = found[i].cracks.first().and_then(vertical_crack) else {
+                continue;
+            };
             let row = &by_row[row_start[y]..row_start[y + 1]];
             let at = row.partition_point(|&(cx, _)| (cx as usize) < x);
             found[i].parent = at.checked_sub(1).and_then(|k| {
@@ -336,7 +336,7 @@ fn vertical_crack(c: &Crack) -> Option<(usize, usize)> {
         // Down from (x, y): the crack between vertices (x, y) and (x, y + 1).
         1 => Some((x, y)),
         // Up from (x, y): the crack between vertices (x, y − 1) and (x, y).
-        3 => Some((x, y - 1)),
+        3 => Some((x, y.checked_sub(1)?)),
         _ => None,
     }
 }

@@ -224,7 +224,7 @@ pub(crate) fn contour_path_data(
         }
         for c in cubics {
             let end = w.grid(c.points[3]);
-            if is_straight(c, w.half_unit) {
+            if is_straight(c, w.half_unit()) {
                 if end != pen {
                     w.line(pen, end);
                 }
@@ -270,8 +270,6 @@ struct PathWriter {
     /// Grid units per pixel: 10^precision.
     scale: f64,
     precision: usize,
-    /// Half a grid unit, in pixels: the most rounding moves a coordinate.
-    half_unit: f64,
     /// The last command letter written.
     last_command: char,
     /// Whether the last thing written is a number containing a `.` (a following `.5`
@@ -294,10 +292,14 @@ impl PathWriter {
             out: String::new(),
             scale,
             precision,
-            half_unit: 0.5 / scale,
             last_command: ' ',
             last: Last::Command,
         }
+    }
+
+    /// Half a grid unit, in pixels: the most rounding moves a coordinate.
+    fn half_unit(&self) -> f64 {
+        0.5 / self.scale
     }
 
     /// `p` in grid units.
