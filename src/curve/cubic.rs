@@ -35,6 +35,7 @@
 //! of that depth even if it misses the bound. Curves with non-finite coordinates produce
 //! non-finite cubics rather than an error; callers that write files check for that.
 
+use super::power::PowerCubic;
 use super::rational::CONVERGED_STEP;
 use super::RationalCubic;
 use crate::geom::Point;
@@ -104,47 +105,7 @@ impl CubicBez {
     /// steps that do not increase the distance). Returns `(t, |B(t) − q|)`. Converges to the
     /// nearest point in the basin of `t0`; use [`CubicBez::nearest`] for the global one.
     pub fn refine_projection(&self, q: Point, t0: f64) -> (f64, f64) {
-        let mut t = if t0.is_finite() {
-            t0.clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let mut p = self.eval(t);
-        let mut dist2 = (p - q).length_squared();
-        for _ in 0..12 {
-            let d1 = self.deriv(t);
-            let d2 = self.deriv2(t);
-            let r = p - q;
-            let g = r.dot(d1);
-            let h = d1.length_squared() + r.dot(d2);
-            let step = if h > 1e-12 {
-                -g / h
-            } else {
-                -g / d1.length_squared().max(1e-12)
-            };
-            if !step.is_finite() || step.abs() < CONVERGED_STEP {
-                break;
-            }
-            let mut factor = 1.0;
-            let mut improved = false;
-            for _ in 0..6 {
-                let tn = (t + factor * step).clamp(0.0, 1.0);
-                let pn = self.eval(tn);
-                let dn = (pn - q).length_squared();
-                if dn <= dist2 {
-                    improved = tn != t;
-                    t = tn;
-                    p = pn;
-                    dist2 = dn;
-                    break;
-                }
-                factor *= 0.5;
-            }
-            if !improved {
-                break;
-            }
-        }
-        (t, dist2.sqrt())
+        PowerCubic::polynomial(&self.points).refine_projection(q, t0, CONVERGED_STEP)
     }
 
     /// The global nearest point of the curve to `q`: a scan of `samples + 1` evenly spaced

@@ -2,6 +2,7 @@
 //! cubics are what SVG can draw.
 
 pub mod cubic;
+pub mod power;
 pub mod rational;
 pub mod sg_bezier;
 pub mod wang_ball;

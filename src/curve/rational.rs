@@ -6,6 +6,7 @@
 //! points onto it (nearest point by a global scan followed by Newton's method), and
 //! subdivides it. Written by hand: no maintained crate offers rational cubics.
 
+use super::power::PowerCubic;
 use crate::geom::Point;
 use serde::{Deserialize, Serialize};
 
@@ -151,74 +152,20 @@ impl RationalCubic {
     /// do not increase the distance). Returns `(u, |P(u) − q|)`. Converges to the nearest
     /// point in the basin of `u0`; use [`RationalCubic::nearest`] for the global nearest point.
     pub fn refine_projection(&self, q: Point, u0: f64) -> (f64, f64) {
-        let mut u = u0.clamp(0.0, 1.0);
-        let mut jet = self.jet(u);
-        let mut dist2 = (jet.point - q).length_squared();
-        for _ in 0..12 {
-            let r = jet.point - q;
-            let g = r.dot(jet.d1);
-            let h = jet.d1.length_squared() + r.dot(jet.d2);
-            // Fall back to a gradient-like step if the Hessian is not positive.
-            let step = if h > 1e-12 {
-                -g / h
-            } else {
-                -g / jet.d1.length_squared().max(1e-12)
-            };
-            let mut t = 1.0;
-            let mut improved = false;
-            for _ in 0..6 {
-                let un = (u + t * step).clamp(0.0, 1.0);
-                let jn = self.jet(un);
-                let dn = (jn.point - q).length_squared();
-                if dn <= dist2 {
-                    let moved = (un - u).abs();
-                    u = un;
-                    jet = jn;
-                    dist2 = dn;
-                    improved = moved > 0.0;
-                    break;
-                }
-                t *= 0.5;
-            }
-            if !improved || step.abs() < 1e-15 {
-                break;
-            }
-        }
-        (u, dist2.sqrt())
+        PowerCubic::new(self).refine_projection(q, u0, 1e-15)
+    }
+
+    /// The curve in power form, for evaluating it at many parameters
+    /// (projections of many points).
+    pub fn power_form(&self) -> PowerCubic {
+        PowerCubic::new(self)
     }
 
     /// A cheap projection step for parameter correction: `iterations` plain Newton steps
     /// on (P(u) − q)·P'(u) = 0 from `u0`, clamped to [0, 1], keeping a step only when it
     /// brings the point closer. Returns the new parameter.
     pub fn project_quick(&self, q: Point, u0: f64, iterations: usize) -> f64 {
-        let mut u = u0.clamp(0.0, 1.0);
-        let mut jet = self.jet(u);
-        let mut d2 = (jet.point - q).length_squared();
-        for _ in 0..iterations {
-            let r = jet.point - q;
-            let h = jet.d1.length_squared() + r.dot(jet.d2);
-            let g = r.dot(jet.d1);
-            let step = if h > 1e-12 {
-                -g / h
-            } else {
-                -g / jet.d1.length_squared().max(1e-12)
-            };
-            let un = (u + step).clamp(0.0, 1.0);
-            if (un - u).abs() <= CONVERGED_STEP {
-                // Converged: a further step moves the foot by less than round-off of
-                // pixel coordinates and would cost another evaluation.
-                break;
-            }
-            let jn = self.jet(un);
-            let dn = (jn.point - q).length_squared();
-            if dn > d2 {
-                break;
-            }
-            u = un;
-            jet = jn;
-            d2 = dn;
-        }
-        u
+        PowerCubic::new(self).project_quick(q, u0, iterations)
     }
 
     /// The global nearest point of the curve to `q`: a scan of `samples + 1` evenly spaced

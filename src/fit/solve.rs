@@ -914,8 +914,9 @@ fn bent_straight_segment(
 /// Moves every interior parameter to the foot of its point on the curve (local Newton).
 fn reproject(curve: &RationalCubic, points: &[Point], params: &mut [f64]) {
     let n = points.len();
+    let power = curve.power_form();
     for i in 1..n.saturating_sub(1) {
-        params[i] = curve.project_quick(points[i], params[i], 3);
+        params[i] = power.project_quick(points[i], params[i], 3);
     }
 }
 
@@ -924,10 +925,11 @@ fn reproject(curve: &RationalCubic, points: &[Point], params: &mut [f64]) {
 fn orthogonal_objective(curve: &RationalCubic, points: &[Point], params: &mut [f64]) -> f64 {
     let n = points.len();
     let mut e = 0.0;
+    let power = curve.power_form();
     for i in 1..n - 1 {
-        let u = curve.project_quick(points[i], params[i], 4);
+        let u = power.project_quick(points[i], params[i], 4);
         params[i] = u;
-        e += (curve.eval(u) - points[i]).length_squared();
+        e += (power.eval(u) - points[i]).length_squared();
     }
     e
 }
@@ -1126,12 +1128,25 @@ pub fn segment_error(curve: &RationalCubic, points: &[Point], params: &[f64]) ->
     let mut sum_sq = 0.0;
     let mut max_d: f64 = 0.0;
     let mut sum_d = 0.0;
-    let scan = curve.scan(24);
+    const SAMPLES: usize = 24;
+    let scan = curve.scan(SAMPLES);
+    let power = curve.power_form();
     for (q, &u) in points.iter().zip(params) {
         sum_sq += (curve.eval(u) - *q).length_squared();
-        let local = curve.refine_projection(*q, u).1;
-        let global = curve.nearest_in_scan(&scan, *q).1;
-        let d = local.min(global);
+        let (foot, local) = power.refine_projection(*q, u, 1e-15);
+        // The global search refines from the scan's nearest sample; when that sample is
+        // next to the local foot, it lies in the same basin and would find the same foot.
+        let nearest_sample = scan
+            .iter()
+            .map(|p| (*p - *q).length_squared())
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0, |(j, _)| j);
+        let d = if nearest_sample.abs_diff((foot * SAMPLES as f64).round() as usize) <= 1 {
+            local
+        } else {
+            local.min(curve.nearest_in_scan(&scan, *q).1)
+        };
         max_d = max_d.max(d);
         sum_d += d;
     }
