@@ -104,10 +104,18 @@ pub fn arc_lengths(points: &[Point]) -> (Vec<f64>, f64) {
 /// The point at arc length `target` (any real; wrapped) of a closed polygon, searching from
 /// index `hint`.
 fn point_at(points: &[Point], s: &[f64], total: f64, hint: usize, target: f64) -> Point {
+    let mut i = hint;
+    point_from(points, s, total, &mut i, target)
+}
+
+/// [`point_at`] that leaves in `at` the index of the polygon edge it found: a scan whose
+/// targets move forward with the points passes that index back as the next hint, and
+/// then finds each edge in a step or two instead of walking the whole window.
+fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f64) -> Point {
     let n = points.len();
     let t = target.rem_euclid(total);
-    // Walk from the hint in the needed direction; windows are short, so this is O(window).
-    let mut i = hint;
+    // Walk from the hint in the needed direction.
+    let mut i = *at;
     let seg_end = |i: usize| if i + 1 < n { s[i + 1] } else { total };
     let mut guard = 0;
     // Walking towards t never passes it, so the shorter way round stays the same.
@@ -120,6 +128,7 @@ fn point_at(points: &[Point], s: &[f64], total: f64, hint: usize, target: f64) -
         };
         guard += 1;
     }
+    *at = i;
     let len = seg_end(i) - s[i];
     let f = if len > 0.0 { (t - s[i]) / len } else { 0.0 };
     points[i].lerp(points[(i + 1) % n], f)
@@ -134,10 +143,11 @@ pub fn turning_angles(points: &[Point], h: f64) -> Vec<f64> {
         return vec![0.0; n];
     }
     let h = h.min(total / 4.0);
+    let (mut behind, mut ahead) = (0, 0);
     (0..n)
         .map(|i| {
-            let a = point_at(points, &s, total, i, s[i] - h);
-            let b = point_at(points, &s, total, i, s[i] + h);
+            let a = point_from(points, &s, total, &mut behind, s[i] - h);
+            let b = point_from(points, &s, total, &mut ahead, s[i] + h);
             let din = points[i] - a;
             let dout = b - points[i];
             let ang = angle_between(din, dout);
@@ -156,10 +166,15 @@ pub fn turning_angles(points: &[Point], h: f64) -> Vec<f64> {
 /// measures the full angle of the corner instead of the rounded one.
 fn corner_angles(points: &[Point], s: &[f64], total: f64, h: f64) -> Vec<f64> {
     let n = points.len();
+    // One hint per offset, carried from point to point.
+    let mut hints = [0; 4];
     (0..n)
         .map(|i| {
-            let at = |d: f64| point_at(points, s, total, i, s[i] + d);
-            angle_between(at(-0.5 * h) - at(-2.0 * h), at(2.0 * h) - at(0.5 * h))
+            let [h0, h1, h2, h3] = &mut hints;
+            let at = |d: f64, hint: &mut usize| point_from(points, s, total, hint, s[i] + d);
+            let arriving = at(-0.5 * h, h1) - at(-2.0 * h, h0);
+            let leaving = at(2.0 * h, h3) - at(0.5 * h, h2);
+            angle_between(arriving, leaving)
         })
         .collect()
 }

@@ -244,15 +244,16 @@ pub(super) fn fit_piece(
 /// passes through every point but loops out between two of them (a short segment with
 /// long tangent handles), which the first cannot see.
 fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
+    let curve = sol.curve.power_form();
     let at_points = points
         .iter()
         .zip(&sol.params)
-        .map(|(q, &u)| sol.curve.eval(u).distance(*q))
+        .map(|(q, &u)| curve.eval(u).distance(*q))
         .fold(0.0, f64::max);
     let between = points
         .windows(2)
         .zip(sol.params.windows(2))
-        .map(|(q, u)| segment_distance(sol.curve.eval(0.5 * (u[0] + u[1])), q[0], q[1]))
+        .map(|(q, u)| segment_distance(curve.eval(0.5 * (u[0] + u[1])), q[0], q[1]))
         .fold(0.0, f64::max);
     at_points.max(between)
 }
