@@ -519,23 +519,22 @@ fn follows_cracks(points: &[Point], cracks: &[Crack]) -> bool {
     if (signed_area(points).abs() - signed_area(&mids).abs()).abs() > 0.35 * length {
         return false;
     }
-    // Spatial hash of the midpoints on a 2 px grid.
-    let cell = |p: Point| ((p.x / 2.0).floor() as i64, (p.y / 2.0).floor() as i64);
-    let mut grid: std::collections::HashMap<(i64, i64), Vec<Point>> =
-        std::collections::HashMap::new();
-    for &m in &mids {
-        grid.entry(cell(m)).or_default().push(m);
-    }
+    // The midpoints sorted by their cell of a 2 px grid (row, then column): the nine
+    // cells around a point are three runs of that order, found by binary search.
+    let cell = |p: Point| ((p.y / 2.0).floor() as i64, (p.x / 2.0).floor() as i64);
+    let mut sorted: Vec<((i64, i64), Point)> = mids.iter().map(|&m| (cell(m), m)).collect();
+    sorted.sort_unstable_by_key(|e| e.0);
     points.iter().all(|&p| {
-        let (cx, cy) = cell(p);
+        let (cy, cx) = cell(p);
         let mut best = f64::INFINITY;
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                if let Some(v) = grid.get(&(cx + dx, cy + dy)) {
-                    for &m in v {
-                        best = best.min(m.distance(p));
-                    }
+        for dy in -1..=1 {
+            let row = cy + dy;
+            let from = sorted.partition_point(|e| e.0 < (row, cx - 1));
+            for &(key, m) in &sorted[from..] {
+                if key > (row, cx + 1) {
+                    break;
                 }
+                best = best.min(m.distance(p));
             }
         }
         best <= CRACK_FIDELITY
