@@ -18,7 +18,7 @@
 
 use crate::contour::Contour;
 use crate::fit::JointKind;
-use crate::geom::{angle_between, Point};
+use crate::geom::{angle_between, wrap_once, Point};
 use serde::Serialize;
 
 /// Options of break detection.
@@ -113,13 +113,14 @@ fn point_at(points: &[Point], s: &[f64], total: f64, hint: usize, target: f64) -
 /// then finds each edge in a step or two instead of walking the whole window.
 fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f64) -> Point {
     let n = points.len();
-    let t = target.rem_euclid(total);
+    // Targets lie within a window of a point: at most one lap away.
+    let t = wrap_once(target, total);
     // Walk from the hint in the needed direction.
     let mut i = *at;
     let seg_end = |i: usize| if i + 1 < n { s[i + 1] } else { total };
     let mut guard = 0;
     // Walking towards t never passes it, so the shorter way round stays the same.
-    let forward = (t - s[i]).rem_euclid(total) < total / 2.0;
+    let forward = wrap_once(t - s[i], total) < total / 2.0;
     while !(s[i] <= t && t < seg_end(i)) && guard < n {
         i = if forward {
             (i + 1) % n

@@ -98,7 +98,7 @@
 //! ~12 px across come out rounded.
 
 use crate::error::{Error, Result};
-use crate::geom::{distance_to_closed_polyline, signed_area, Point};
+use crate::geom::{distance_to_closed_polyline, floor_i64, signed_area, Point};
 use crate::raster::Bitmap;
 use mask::{Crack, PaddedMask};
 use serde::Serialize;
@@ -521,7 +521,7 @@ fn follows_cracks(points: &[Point], cracks: &[Crack]) -> bool {
     }
     // The midpoints sorted by their cell of a 2 px grid (row, then column): the nine
     // cells around a point are three runs of that order, found by binary search.
-    let cell = |p: Point| ((p.y / 2.0).floor() as i64, (p.x / 2.0).floor() as i64);
+    let cell = |p: Point| (floor_i64(p.y / 2.0), floor_i64(p.x / 2.0));
     let mut sorted: Vec<((i64, i64), Point)> = mids.iter().map(|&m| (cell(m), m)).collect();
     sorted.sort_unstable_by_key(|e| e.0);
     points.iter().all(|&p| {
@@ -1568,7 +1568,7 @@ impl Workspace {
             inside(self.raw[j] - half) && outside(self.raw[j] + half)
         });
         // The pixels around the corner itself, diagonal neighbours included.
-        let (cx, cy) = (x.x.floor() as i64, x.y.floor() as i64);
+        let (cx, cy) = (floor_i64(x.x), floor_i64(x.y));
         let pixels_agree = (cy - 2..=cy + 2).all(|r| {
             (cx - 2..=cx + 2).all(|col| {
                 let q = Point::new(col as f64 + 0.5, r as f64 + 0.5);

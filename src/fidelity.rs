@@ -24,7 +24,7 @@
 use crate::curve::CubicBez;
 use crate::export::svg::drawing_pieces;
 use crate::fit::FittedContour;
-use crate::geom::{distance_to_closed_polyline, segment_distance, Point};
+use crate::geom::{distance_to_closed_polyline, floor_i64, segment_distance, Point};
 use crate::raster::Bitmap;
 use serde::Serialize;
 use std::collections::HashSet;
@@ -198,10 +198,10 @@ impl<'a> EdgeGrid<'a> {
         let rows = (f64::from(height) / cell).ceil() as i64 + 1;
         let cells = (cols * rows) as usize;
         let range = |e: &Edge| {
-            let c0 = ((e.a.x.min(e.b.x) / cell).floor() as i64).clamp(0, cols - 1);
-            let c1 = ((e.a.x.max(e.b.x) / cell).floor() as i64).clamp(0, cols - 1);
-            let r0 = ((e.a.y.min(e.b.y) / cell).floor() as i64).clamp(0, rows - 1);
-            let r1 = ((e.a.y.max(e.b.y) / cell).floor() as i64).clamp(0, rows - 1);
+            let c0 = floor_i64(e.a.x.min(e.b.x) / cell).clamp(0, cols - 1);
+            let c1 = floor_i64(e.a.x.max(e.b.x) / cell).clamp(0, cols - 1);
+            let r0 = floor_i64(e.a.y.min(e.b.y) / cell).clamp(0, rows - 1);
+            let r1 = floor_i64(e.a.y.max(e.b.y) / cell).clamp(0, rows - 1);
             (c0, c1, r0, r1)
         };
         let mut count = vec![0u32; cells + 1];
@@ -260,8 +260,8 @@ impl<'a> EdgeGrid<'a> {
     /// border cells, nearer to a point inside; for a point outside, the rings before the
     /// grid are empty, so nothing is skipped until the grid is reached.)
     fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, u32)> {
-        let c = (p.x / self.cell).floor() as i64;
-        let r = (p.y / self.cell).floor() as i64;
+        let c = floor_i64(p.x / self.cell);
+        let r = floor_i64(p.y / self.cell);
         let k = (reach / self.cell).ceil() as i64;
         // Ring j ≥ 1 lies outside the block of rings below it, at least (j − 1) cells
         // plus `margin` (the distance from `p` to its own cell's sides) away.
@@ -306,8 +306,8 @@ impl<'a> EdgeGrid<'a> {
 
     /// True when some edge lies within `reach` px of `p` (stops at the first).
     fn any_within(&self, p: Point, reach: f64) -> bool {
-        let c = (p.x / self.cell).floor() as i64;
-        let r = (p.y / self.cell).floor() as i64;
+        let c = floor_i64(p.x / self.cell);
+        let r = floor_i64(p.y / self.cell);
         let k = (reach / self.cell).ceil() as i64;
         for row in (r - k).max(0)..=(r + k).min(self.rows - 1) {
             for col in (c - k).max(0)..=(c + k).min(self.cols - 1) {
