@@ -85,3 +85,76 @@ fn many_contours_give_the_same_result_on_one_and_three_threads() {
         assert!(one.fidelity.held, "{optimizer}");
     }
 }
+
+/// A 840 × 840 star of 20 spikes (radii 400 and 300 px, 4 × 4 supersampled): one contour
+/// of more than 4 000 points with 40 corners, whose runs from corner to corner and whose
+/// segment errors are computed in parallel.
+fn star() -> Bitmap {
+    let n = 840usize;
+    let c = n as f64 / 2.0;
+    let vertices: Vec<(f64, f64)> = (0..40)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::PI / 20.0 + 0.05;
+            let r = if k % 2 == 0 { 400.0 } else { 300.0 };
+            (c + r * a.cos(), c + r * a.sin())
+        })
+        .collect();
+    // Even-odd rule over the polygon's edges.
+    let inside = |x: f64, y: f64| {
+        let mut odd = false;
+        for k in 0..vertices.len() {
+            let (a, b) = (vertices[k], vertices[(k + 1) % vertices.len()]);
+            if (a.1 > y) != (b.1 > y) && x < a.0 + (b.0 - a.0) * (y - a.1) / (b.1 - a.1) {
+                odd = !odd;
+            }
+        }
+        odd
+    };
+    let mut coverage = vec![0.0f32; n * n];
+    for (i, v) in coverage.iter_mut().enumerate() {
+        let (px, py) = ((i % n) as f64, (i / n) as f64);
+        let mut hits = 0;
+        for s in 0..16 {
+            let (x, y) = (
+                px + (0.5 + (s % 4) as f64) / 4.0,
+                py + (0.5 + (s / 4) as f64) / 4.0,
+            );
+            hits += u32::from(inside(x, y));
+        }
+        *v = hits as f32 / 16.0;
+    }
+    Bitmap::from_coverage(n as u32, n as u32, coverage, None).unwrap()
+}
+
+#[test]
+fn one_large_contour_with_corners_gives_the_same_result_on_one_and_three_threads() {
+    let bitmap = star();
+    let config = Config {
+        timings: false,
+        ..Config::default()
+    };
+    let one = on_threads(1, &bitmap, &config);
+    let three = on_threads(3, &bitmap, &config);
+    assert_eq!(one.contours.len(), 1);
+    let contour = &one.contours[0];
+    assert!(contour.points.len() >= 4000, "{}", contour.points.len());
+    let corners = contour
+        .joints
+        .iter()
+        .filter(|j| j.kind == outlinefit::fit::JointKind::Corner)
+        .count();
+    assert_eq!(corners, 40);
+    // Corner to corner the star's sides are straight: one segment each.
+    assert_eq!(contour.segments.len(), 40);
+    for (s, t) in contour.segments.iter().zip(&three.contours[0].segments) {
+        assert_eq!(s.curve.points, t.curve.points);
+        assert_eq!(s.curve.weights, t.curve.weights);
+        assert_eq!(
+            s.error.max_distance.to_bits(),
+            t.error.max_distance.to_bits()
+        );
+    }
+    let opts = SvgOptions::default();
+    assert_eq!(to_svg(&one, &opts), to_svg(&three, &opts));
+    assert!(one.fidelity.held);
+}

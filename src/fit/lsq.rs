@@ -262,7 +262,7 @@ fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
 pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
     let points = &seg.points;
     let n = points.len();
-    let mut joints: Vec<JointSpec> = seg
+    let joints: Vec<JointSpec> = seg
         .breaks
         .iter()
         .map(|b| JointSpec {
@@ -282,6 +282,78 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
             merged: Vec::new(),
         };
     }
+    let corners: Vec<usize> = (0..joints.len())
+        .filter(|&k| joints[k].kind == JointKind::Corner)
+        .collect();
+    let (joints, pieces) = if corners.len() >= 2 {
+        fit_between_corners(points, joints, &corners, opts)
+    } else {
+        fit_chain(points, joints, true, opts)
+    };
+    assemble(points, seg.is_hole, seg.parent, &joints, pieces, opts)
+}
+
+/// Fewest contour points for which the runs between corners of one contour are fitted in
+/// parallel (see [`fit_between_corners`]).
+const PARALLEL_RUN_POINTS: usize = 4000;
+
+/// Fits a contour with two or more corners run by run: no split or merge crosses a corner,
+/// so the runs from one corner to the next are independent chains, fitted in parallel on
+/// a large contour. The joints come back in the contour's order, starting where they
+/// started.
+fn fit_between_corners(
+    points: &[Point],
+    joints: Vec<JointSpec>,
+    corners: &[usize],
+    opts: &LsqOptions,
+) -> (Vec<JointSpec>, Vec<Piece>) {
+    let m = joints.len();
+    let runs: Vec<Vec<JointSpec>> = corners
+        .iter()
+        .enumerate()
+        .map(|(r, &c)| {
+            let next = corners[(r + 1) % corners.len()];
+            let len = (next + m - c) % m + 1;
+            (0..len).map(|k| joints[(c + k) % m]).collect()
+        })
+        .collect();
+    let fit_run = |run: Vec<JointSpec>| fit_chain(points, run, false, opts);
+    let fitted: Vec<(Vec<JointSpec>, Vec<Piece>)> = if points.len() >= PARALLEL_RUN_POINTS {
+        use rayon::prelude::*;
+        runs.into_par_iter().map(fit_run).collect()
+    } else {
+        runs.into_iter().map(fit_run).collect()
+    };
+    // Each run ends on the corner that starts the next one.
+    let mut all_joints = Vec::with_capacity(m);
+    let mut all_pieces = Vec::with_capacity(m);
+    for (mut run_joints, run_pieces) in fitted {
+        run_joints.pop();
+        all_joints.extend(run_joints);
+        all_pieces.extend(run_pieces);
+    }
+    // Start again at the first joint of the original order that is left.
+    let n = points.len();
+    let first = joints[0].index;
+    let lead = (0..all_joints.len())
+        .min_by_key(|&k| (all_joints[k].index + n - first) % n)
+        .unwrap_or(0);
+    all_joints.rotate_left(lead);
+    all_pieces.rotate_left(lead);
+    (all_joints, all_pieces)
+}
+
+/// Fits a chain of joints: each piece between consecutive joints, then splitting and
+/// merging. A `closed` chain runs from its last joint back to its first and keeps at least
+/// two segments; an open one (a run from one corner to the next) has one piece fewer than
+/// joints and never merges across its end joints.
+fn fit_chain(
+    points: &[Point],
+    mut joints: Vec<JointSpec>,
+    closed: bool,
+    opts: &LsqOptions,
+) -> (Vec<JointSpec>, Vec<Piece>) {
+    let n = points.len();
     let mut buf = Vec::new();
     let fit = |a: &JointSpec, b: &JointSpec, buf: &mut Vec<Point>| -> Piece {
         fit_piece(points, a, b, opts, buf)
@@ -292,7 +364,12 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
     let mut failed: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
 
     // Initial fits and splitting.
-    let mut pieces: Vec<Piece> = (0..joints.len())
+    let count = if closed {
+        joints.len()
+    } else {
+        joints.len() - 1
+    };
+    let mut pieces: Vec<Piece> = (0..count)
         .map(|k| fit(&joints[k], &joints[(k + 1) % joints.len()], &mut buf))
         .collect();
     let mut k = 0;
@@ -335,8 +412,9 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
     // between two given joints is remembered: it would fail again.
     loop {
         let mut merged_any = false;
-        let mut j = 0;
-        while j < joints.len() && joints.len() > 2 {
+        // An open chain merges at its inner joints only.
+        let mut j = usize::from(!closed);
+        while j + usize::from(!closed) < joints.len() && joints.len() > 2 {
             let m = joints.len();
             if joints[j].kind == JointKind::Smooth {
                 let prev = (j + m - 1) % m;
@@ -371,7 +449,7 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
         }
     }
 
-    assemble(points, seg.is_hole, seg.parent, &joints, pieces, opts)
+    (joints, pieces)
 }
 
 /// Builds the public result: final error statistics and joint data.
@@ -385,42 +463,55 @@ pub(super) fn assemble(
 ) -> FittedContour {
     let m = joints.len();
     let (arc, _) = arc_lengths(points);
-    let mut buf = Vec::new();
-    let segments: Vec<FittedSegment> = pieces
-        .into_iter()
-        .enumerate()
-        .map(|(k, piece)| {
-            let started = Instant::now();
-            let (a, b) = (joints[k].index, joints[(k + 1) % m].index);
-            cyclic_run(points, a, b, &mut buf);
-            let error = segment_error(&piece.solution.curve, &buf, &piece.solution.params);
-            let seconds = if opts.timings {
-                started.elapsed().as_secs_f64()
-            } else {
-                0.0
-            };
-            FittedSegment {
-                drawn: DrawnCubics::new(
-                    piece.solution.curve,
-                    opts.export_bound,
-                    piece.cubics.unwrap_or_else(|| {
-                        approximate_with_cubics(&piece.solution.curve, opts.export_bound)
-                    }),
-                ),
-                curve: piece.solution.curve,
-                start: a,
-                end: b,
-                point_count: buf.len(),
-                params: piece.solution.params,
-                arc_range: [arc[a], arc[b]],
-                error,
-                evaluations: piece.solution.evaluations,
-                seconds,
-                on_search_boundary: None,
-                history: Vec::new(),
-            }
-        })
-        .collect();
+    // Every segment's error measures and drawn cubics are independent: on a large
+    // contour they are computed in parallel (in order, so on any number of threads the
+    // same).
+    let finish = |k: usize, piece: Piece, buf: &mut Vec<Point>| -> FittedSegment {
+        let started = Instant::now();
+        let (a, b) = (joints[k].index, joints[(k + 1) % m].index);
+        cyclic_run(points, a, b, buf);
+        let error = segment_error(&piece.solution.curve, buf, &piece.solution.params);
+        let seconds = if opts.timings {
+            started.elapsed().as_secs_f64()
+        } else {
+            0.0
+        };
+        FittedSegment {
+            drawn: DrawnCubics::new(
+                piece.solution.curve,
+                opts.export_bound,
+                piece.cubics.unwrap_or_else(|| {
+                    approximate_with_cubics(&piece.solution.curve, opts.export_bound)
+                }),
+            ),
+            curve: piece.solution.curve,
+            start: a,
+            end: b,
+            point_count: buf.len(),
+            params: piece.solution.params,
+            arc_range: [arc[a], arc[b]],
+            error,
+            evaluations: piece.solution.evaluations,
+            seconds,
+            on_search_boundary: None,
+            history: Vec::new(),
+        }
+    };
+    let segments: Vec<FittedSegment> = if points.len() >= PARALLEL_RUN_POINTS {
+        use rayon::prelude::*;
+        pieces
+            .into_par_iter()
+            .enumerate()
+            .map_init(Vec::new, |buf, (k, piece)| finish(k, piece, buf))
+            .collect()
+    } else {
+        let mut buf = Vec::new();
+        pieces
+            .into_iter()
+            .enumerate()
+            .map(|(k, piece)| finish(k, piece, &mut buf))
+            .collect()
+    };
     let joints_out = joint_report(&segments, joints.iter().map(|j| (j.index, j.kind)), points);
     FittedContour {
         points: points.to_vec(),
