@@ -12,6 +12,9 @@
 //! 4. Adjacent segments meeting at a smooth joint are merged back while the merged fit stays
 //!    within tolerance, so the outline keeps few segments. A closed contour keeps at least
 //!    two segments.
+//!
+//! No split or merge crosses a corner, so a contour with two or more corners is fitted run
+//! by run (corner to corner), in parallel on a large contour.
 
 use super::solve::{
     fit_segment, fit_segment_from, segment_error, EndCondition, FitSettings, SegmentSolution,
