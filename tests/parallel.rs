@@ -26,6 +26,12 @@ fn page() -> Bitmap {
             d < r && !(ring && d < 0.45 * r)
         })
     };
+    supersampled(w, h, inside)
+}
+
+/// A `w` × `h` coverage image of the shape `inside` (true inside), from 4 × 4 samples
+/// per pixel.
+fn supersampled(w: usize, h: usize, inside: impl Fn(f64, f64) -> bool) -> Bitmap {
     let mut coverage = vec![0.0f32; w * h];
     for (i, c) in coverage.iter_mut().enumerate() {
         let (px, py) = ((i % w) as f64, (i / w) as f64);
@@ -110,20 +116,7 @@ fn star() -> Bitmap {
         }
         odd
     };
-    let mut coverage = vec![0.0f32; n * n];
-    for (i, v) in coverage.iter_mut().enumerate() {
-        let (px, py) = ((i % n) as f64, (i / n) as f64);
-        let mut hits = 0;
-        for s in 0..16 {
-            let (x, y) = (
-                px + (0.5 + (s % 4) as f64) / 4.0,
-                py + (0.5 + (s / 4) as f64) / 4.0,
-            );
-            hits += u32::from(inside(x, y));
-        }
-        *v = hits as f32 / 16.0;
-    }
-    Bitmap::from_coverage(n as u32, n as u32, coverage, None).unwrap()
+    supersampled(n, n, inside)
 }
 
 #[test]

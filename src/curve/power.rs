@@ -48,11 +48,7 @@ impl PowerCubic {
     pub fn new(curve: &RationalCubic) -> Self {
         let c = &curve.points;
         if curve.is_polynomial() {
-            return PowerCubic {
-                x: coefficients([c[0].x, c[1].x, c[2].x, c[3].x]),
-                y: coefficients([c[0].y, c[1].y, c[2].y, c[3].y]),
-                w: None,
-            };
+            return PowerCubic::polynomial(c);
         }
         let w = curve.all_weights();
         PowerCubic {

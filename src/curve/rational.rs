@@ -14,6 +14,10 @@ use serde::{Deserialize, Serialize};
 /// 1000 px they move the foot by 1e-7 px.
 pub(crate) const CONVERGED_STEP: f64 = 1e-10;
 
+/// Newton steps shorter than this end [`RationalCubic::refine_projection`]: it runs to
+/// round-off of the parameter.
+pub(crate) const EXACT_STEP: f64 = 1e-15;
+
 /// Cubic Bernstein basis values at `u`.
 #[inline]
 pub fn bernstein(u: f64) -> [f64; 4] {
@@ -152,7 +156,7 @@ impl RationalCubic {
     /// do not increase the distance). Returns `(u, |P(u) − q|)`. Converges to the nearest
     /// point in the basin of `u0`; use [`RationalCubic::nearest`] for the global nearest point.
     pub fn refine_projection(&self, q: Point, u0: f64) -> (f64, f64) {
-        PowerCubic::new(self).refine_projection(q, u0, 1e-15)
+        PowerCubic::new(self).refine_projection(q, u0, EXACT_STEP)
     }
 
     /// The curve in power form, for evaluating it at many parameters
@@ -179,7 +183,7 @@ impl RationalCubic {
     }
 
     /// The curve at `samples + 1` evenly spaced parameters (at least 3), for
-    /// [`RationalCubic::nearest_in_scan`]: many points projected onto one curve share it.
+    /// [`nearest_sample`]: many points projected onto one curve share it.
     pub fn scan(&self, samples: usize) -> Vec<Point> {
         let samples = samples.max(2);
         (0..=samples)
@@ -187,24 +191,11 @@ impl RationalCubic {
             .collect()
     }
 
-    /// [`RationalCubic::nearest`] with the scan made beforehand by [`RationalCubic::scan`].
-    pub fn nearest_in_scan(&self, scan: &[Point], q: Point) -> (f64, f64) {
-        self.nearest_among(scan.iter().copied(), q)
-    }
-
     /// Newton from the nearest of `scan`, the curve at evenly spaced parameters from 0 to 1.
     fn nearest_among(&self, scan: impl ExactSizeIterator<Item = Point>, q: Point) -> (f64, f64) {
         let samples = scan.len() - 1;
-        let mut best_u = 0.0;
-        let mut best_d = f64::INFINITY;
-        for (j, p) in scan.enumerate() {
-            let d = (p - q).length_squared();
-            if d < best_d {
-                best_d = d;
-                best_u = j as f64 / samples as f64;
-            }
-        }
-        self.refine_projection(q, best_u)
+        let j = nearest_sample(scan, q);
+        self.refine_projection(q, j as f64 / samples as f64)
     }
 
     /// Splits the segment at parameter `t` into two segments in standard form
@@ -228,6 +219,19 @@ impl RationalCubic {
             from_homogeneous([c1, b2, a3, h[3]]),
         )
     }
+}
+
+/// Index of the first point of `scan` nearest to `q` (0 when no distance compares, as with
+/// non-finite points): where [`RationalCubic::nearest`] starts Newton's method.
+pub fn nearest_sample(scan: impl IntoIterator<Item = Point>, q: Point) -> usize {
+    let mut best = (0, f64::INFINITY);
+    for (j, p) in scan.into_iter().enumerate() {
+        let d = (p - q).length_squared();
+        if d < best.1 {
+            best = (j, d);
+        }
+    }
+    best.0
 }
 
 /// The rational basis for inner weights `w` at parameter `u`; it sums to 1.

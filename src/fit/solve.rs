@@ -15,7 +15,7 @@
 //! over control points and weights together, so that data lying exactly on a rational
 //! cubic is recovered to round-off.
 
-use crate::curve::rational::{bernstein, RationalCubic};
+use crate::curve::rational::{bernstein, nearest_sample, RationalCubic, EXACT_STEP};
 use crate::fit::SegmentError;
 use crate::geom::Point;
 use crate::param::{centripetal_parameters, parameters_into, Parameterization};
@@ -1133,19 +1133,15 @@ pub fn segment_error(curve: &RationalCubic, points: &[Point], params: &[f64]) ->
     let power = curve.power_form();
     for (q, &u) in points.iter().zip(params) {
         sum_sq += (curve.eval(u) - *q).length_squared();
-        let (foot, local) = power.refine_projection(*q, u, 1e-15);
+        let (foot, local) = power.refine_projection(*q, u, EXACT_STEP);
         // The global search refines from the scan's nearest sample; when that sample is
         // next to the local foot, it lies in the same basin and would find the same foot.
-        let nearest_sample = scan
-            .iter()
-            .map(|p| (*p - *q).length_squared())
-            .enumerate()
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map_or(0, |(j, _)| j);
-        let d = if nearest_sample.abs_diff((foot * SAMPLES as f64).round() as usize) <= 1 {
+        let start = nearest_sample(scan.iter().copied(), *q);
+        let d = if start.abs_diff((foot * SAMPLES as f64).round() as usize) <= 1 {
             local
         } else {
-            local.min(curve.nearest_in_scan(&scan, *q).1)
+            let global = power.refine_projection(*q, start as f64 / SAMPLES as f64, EXACT_STEP);
+            local.min(global.1)
         };
         max_d = max_d.max(d);
         sum_d += d;
