@@ -431,8 +431,7 @@ fn fit_chain(
                 // Accept when within tolerance and not more SVG pieces than before.
                 let bound = opts.export_bound;
                 if candidate.max_residual > opts.tolerance
-                    || candidate.pieces(bound)
-                        > pieces[prev].pieces(bound) + pieces[j].pieces(bound)
+                    || adds_pieces(&mut candidate, &mut pieces, prev, j, bound)
                 {
                     failed.insert(key);
                 } else {
@@ -453,6 +452,25 @@ fn fit_chain(
     }
 
     (joints, pieces)
+}
+
+/// True when the `merged` candidate is drawn with more SVG cubics than `pieces[left]` and
+/// `pieces[right]` together. Every segment is drawn with at least one cubic, so the two
+/// halves are approximated only as far as the comparison needs: a merged segment of one or
+/// two cubics never adds any, and the halves it replaces need not be drawn at all.
+fn adds_pieces(
+    merged: &mut Piece,
+    pieces: &mut [Piece],
+    left: usize,
+    right: usize,
+    bound: f64,
+) -> bool {
+    let m = merged.pieces(bound);
+    if m <= 2 {
+        return false;
+    }
+    let l = pieces[left].pieces(bound);
+    m > l + 1 && m > l + pieces[right].pieces(bound)
 }
 
 /// Builds the public result: final error statistics and joint data.
