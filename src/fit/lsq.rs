@@ -53,6 +53,7 @@ impl LsqOptions {
             // without it.
             settings: FitSettings {
                 polish_iterations: 0,
+                search_points: Some(LSQ_SEARCH_POINTS),
                 ..FitSettings::default()
             },
             tangent_window: 3.0,
@@ -61,6 +62,10 @@ impl LsqOptions {
         }
     }
 }
+
+/// Data points the weight search of a segment evaluates (see
+/// [`FitSettings::search_points`]).
+const LSQ_SEARCH_POINTS: usize = 24;
 
 /// A joint while the chain is being built.
 #[derive(Clone, Copy, Debug)]

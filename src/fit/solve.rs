@@ -54,6 +54,13 @@ pub struct FitSettings {
     /// Exact recovery needs more than one: data spaced far from centripetally can lead
     /// every start of one rule into the same wrong basin.
     pub initial: &'static [Parameterization],
+    /// The weight search evaluates its objective on at most about this many data points,
+    /// evenly spaced along the run (the ends always among them); the control points are
+    /// then solved on every point at the weights found. `None` searches on every point.
+    /// The objective is smooth in the weights and the data dense (about a point per pixel),
+    /// so a few dozen points place its minimum close to where all of them do, at a
+    /// fraction of the cost on long runs.
+    pub search_points: Option<usize>,
 }
 
 impl FitSettings {
@@ -85,6 +92,7 @@ impl FitSettings {
                 Parameterization::Chordal,
                 Parameterization::Uniform,
             ],
+            search_points: None,
         }
     }
 }
@@ -98,6 +106,7 @@ impl Default for FitSettings {
             polish_tolerance: 1e-7,
             starts: 1,
             initial: &[Parameterization::Centripetal],
+            search_points: None,
         }
     }
 }
@@ -608,6 +617,14 @@ fn search_weights(
     (to_w(x), best, evals)
 }
 
+/// Every `stride`-th item of `items`, and the last one.
+fn strided<T: Copy>(items: &[T], stride: usize) -> Vec<T> {
+    let last = items.len() - 1;
+    let mut out: Vec<T> = items[..last].iter().step_by(stride).copied().collect();
+    out.push(items[last]);
+    out
+}
+
 /// Starting weights from a 4 × 4 grid of typical weights (0.1, 0.4, 1, 2, clamped into
 /// `range`): the grid's local minima (4-neighbourhood), best first, at most `count` of them.
 /// Returns the starts and the evaluations spent.
@@ -704,12 +721,31 @@ pub fn fit_segment_from(
             })
             .collect(),
     };
+    // The points (and their parameters) the weight search evaluates.
+    let stride = settings
+        .search_points
+        .map_or(1, |m| (points.len() / m.max(2)).max(1));
+    let mut search_points = Vec::new();
+    let mut search_params = Vec::new();
+    if stride > 1 {
+        search_points = strided(points, stride);
+    }
+    let searched = |params: &[f64], search_params: &mut Vec<f64>| {
+        if stride > 1 {
+            *search_params = strided(params, stride);
+        }
+    };
     for initial in inits {
         if settings.fixed_weights() {
             runs.push((initial.clone(), [settings.weight_range.0; 2]));
             continue;
         }
-        let model = LinearModel::with_scale(points, &initial, start, end, scale);
+        searched(&initial, &mut search_params);
+        let model = if stride > 1 {
+            LinearModel::with_scale(&search_points, &search_params, start, end, scale)
+        } else {
+            LinearModel::with_scale(points, &initial, start, end, scale)
+        };
         let (starts, ev) = grid_starts(&model, settings.weight_range, settings.starts.max(1));
         evaluations += ev;
         runs.extend(starts.into_iter().map(|w| (initial.clone(), w)));
@@ -725,7 +761,14 @@ pub fn fit_segment_from(
             if !settings.fixed_weights() {
                 // Later rounds only adjust: the parameters moved a little.
                 let step = if round == 0 { 0.5 } else { 0.1 };
-                let (w, _, ev) = search_weights(&model, settings.weight_range, weights, step, 0.02);
+                let (w, _, ev) = if stride > 1 {
+                    searched(&params, &mut search_params);
+                    let coarse =
+                        LinearModel::with_scale(&search_points, &search_params, start, end, scale);
+                    search_weights(&coarse, settings.weight_range, weights, step, 0.02)
+                } else {
+                    search_weights(&model, settings.weight_range, weights, step, 0.02)
+                };
                 evaluations += ev;
                 weights = w;
             }
