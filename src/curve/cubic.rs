@@ -339,7 +339,10 @@ impl Family {
 /// towards the smallest maximum distance. The tangent distance converges much faster than
 /// parameter correction (which stalled at several times the optimum in our measurements).
 /// Stops early once the largest sample distance is below `0.75·bound`, or when the fit is
-/// hopeless (more than 4·bound after four rounds), since it will be split anyway.
+/// hopeless, since it will be split anyway: more than 4·bound after four rounds or
+/// 1.5·bound after eight. On a page of text (26 000 fits) every fit that ended within the
+/// bound was within 0.97·bound after eight rounds, while a fifth of all fits ran the full
+/// sixteen rounds only to fail.
 fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> CubicFit {
     let c0 = curve.points[0];
     let c3 = curve.points[3];
@@ -389,7 +392,8 @@ fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> Cub
         if worst < best.0 {
             best = (worst, lengths, params.clone());
         }
-        let hopeless = round >= 3 && best.0 > 4.0 * bound;
+        let hopeless =
+            (round >= 3 && best.0 > 4.0 * bound) || (round >= 7 && best.0 > 1.5 * bound);
         let good_enough = best.0 <= 0.75 * bound;
         if good_enough || hopeless || total <= 0.0 || total.is_nan() {
             break;
