@@ -138,7 +138,7 @@ pub const MAX_DEPTH: u32 = 8;
 
 /// The fit uses the rational curve at u = k / FIT_INTERVALS, k = 1 … FIT_INTERVALS − 1 (the
 /// ends are interpolated exactly); the distance check adds the midpoints between them.
-const FIT_INTERVALS: usize = 32;
+const FIT_INTERVALS: usize = 16;
 
 /// Rounds of parameter correction of the first, point-distance least-squares fit.
 const CORRECTION_ROUNDS: usize = 2;
