@@ -395,7 +395,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             deviation: if meta_options.is_none() {
                 // The fit's tolerance, the SVG's approximation, and the flattening of the
                 // drawn path.
-                config.tolerance + bound + 0.01
+                config.tolerance + bound + fidelity::FLATTEN_ERROR
             } else {
                 fidelity::SHAPE_LIMIT.max(config.tolerance)
             },
