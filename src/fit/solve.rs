@@ -751,6 +751,9 @@ pub fn fit_segment_from(
         runs.extend(starts.into_iter().map(|w| (initial.clone(), w)));
     }
     let mut best: Option<(RationalCubic, Vec<f64>, f64)> = None;
+    // With one run there is nothing to choose between: its objective (one more projection
+    // of every point) is not needed.
+    let single = runs.len() == 1;
     for (initial_params, w0) in runs {
         params.copy_from_slice(&initial_params);
         let mut weights = w0;
@@ -788,6 +791,10 @@ pub fn fit_segment_from(
             let (polished, ev) = polish(&model, curve, &mut params, settings);
             curve = polished;
             evaluations += ev;
+        }
+        if single {
+            best = Some((curve, params, 0.0));
+            break;
         }
         let obj = orthogonal_objective(&curve, points, &mut params);
         if best.as_ref().is_none_or(|b| obj < b.2) {
