@@ -100,7 +100,7 @@
 use crate::error::{Error, Result};
 use crate::geom::{distance_to_closed_polyline, floor_i64, signed_area, Point};
 use crate::raster::Bitmap;
-use mask::{Crack, PaddedMask};
+use mask::{Crack, FoundBorder, PaddedMask};
 use serde::Serialize;
 
 mod mask;
@@ -403,6 +403,10 @@ impl Extraction {
 }
 
 /// [`extract_contours`] keeping the borders.
+/// Fewest pixel-edge cracks outside the largest border for which the borders of an image
+/// are refined in parallel (a small image would spend more on starting the thread pool).
+const PARALLEL_CRACKS: usize = 20_000;
+
 pub(crate) fn extract_borders(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Extraction> {
     extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)
 }
@@ -448,10 +452,7 @@ fn extract_with(
     }
     let found = mask.borders();
 
-    let mut work = Workspace::default();
-    let mut traced: Vec<Option<Contour>> = Vec::with_capacity(found.len());
-    let mut borders = Vec::with_capacity(found.len());
-    for border in found {
+    let trace_one = |work: &mut Workspace, border: FoundBorder| -> (Option<Contour>, Border) {
         let (cracks, is_hole) = (border.cracks, border.is_hole);
         let contour = if cracks.is_empty() {
             None
@@ -485,13 +486,31 @@ fn extract_with(
             extend_spikes(&mut points, bitmap);
             finish(points, is_hole, border.parent, opts.min_area)
         };
-        traced.push(contour);
-        borders.push(Border {
+        let border = Border {
             cracks,
             is_hole,
             parent: border.parent,
-        });
-    }
+        };
+        (contour, border)
+    };
+    // Borders are refined independently: on a large image with many of them (a page of
+    // text), in parallel, results in border order.
+    let cracks: usize = found.iter().map(|b| b.cracks.len()).sum();
+    let largest = found.iter().map(|b| b.cracks.len()).max().unwrap_or(0);
+    let results: Vec<(Option<Contour>, Border)> = if cracks - largest >= PARALLEL_CRACKS {
+        use rayon::prelude::*;
+        found
+            .into_par_iter()
+            .map_init(Workspace::default, trace_one)
+            .collect()
+    } else {
+        let mut work = Workspace::default();
+        found
+            .into_iter()
+            .map(|border| trace_one(&mut work, border))
+            .collect()
+    };
+    let (traced, borders): (Vec<Option<Contour>>, Vec<Border>) = results.into_iter().unzip();
     let parents = borders.iter().map(|b| b.parent).collect();
     let (contours, border_of) = renumber(traced, parents);
     Ok(Extraction {

@@ -27,6 +27,7 @@ use crate::export::svg::drawing_pieces;
 use crate::fit::FittedContour;
 use crate::geom::{distance_to_closed_polyline, floor_i64, segment_distance, Point};
 use crate::raster::Bitmap;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashSet;
 
@@ -362,6 +363,12 @@ fn run_end(col: usize, x: f64, w: usize) -> usize {
     end
 }
 
+/// Fewest data points of an image (or of one contour) for which the check runs on the
+/// thread pool: contours, and the points of a large contour, are measured in parallel,
+/// and the rows of the image compared in parallel; the findings are the same on any
+/// number of threads.
+const PARALLEL_POINTS: usize = 20_000;
+
 /// Pixels in `excused` (specks dropped on purpose) never count as far.
 pub(crate) fn check(
     bitmap: &Bitmap,
@@ -372,28 +379,29 @@ pub(crate) fn check(
     let polylines = flatten(contours, limits.bound);
     let grid = EdgeGrid::new(&polylines, bitmap.width, bitmap.height);
 
+    let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
+
     // 1. Deviation of every data point from its own contour's drawn path.
-    let mut max_deviation: f64 = 0.0;
-    let mut bad_points = Vec::with_capacity(contours.len());
     let reach = limits.deviation.max(SHAPE_LIMIT) * 2.0;
-    for (i, c) in contours.iter().enumerate() {
+    let deviation_of = |(i, c): (usize, &FittedContour)| -> (f64, Vec<usize>) {
         if polylines[i].is_empty() {
-            bad_points.push(Vec::new());
-            continue;
+            return (0.0, Vec::new());
         }
-        let deviation: Vec<f64> = c
-            .points
-            .iter()
-            .map(|&p| match grid.nearest(p, reach, Some(i as u32)) {
-                Some((d, _)) => d,
-                None => distance_to_closed_polyline(p, &polylines[i]),
-            })
-            .collect();
+        let at = |&p: &Point| match grid.nearest(p, reach, Some(i as u32)) {
+            Some((d, _)) => d,
+            None => distance_to_closed_polyline(p, &polylines[i]),
+        };
+        let deviation: Vec<f64> = if parallel && c.points.len() >= PARALLEL_POINTS {
+            c.points.par_iter().map(at).collect()
+        } else {
+            c.points.iter().map(at).collect()
+        };
         let n = deviation.len();
+        let mut worst: f64 = 0.0;
         let mut bad = Vec::new();
         for k in 0..n {
             let d = deviation[k];
-            max_deviation = max_deviation.max(d);
+            worst = worst.max(d);
             if d > limits.deviation
                 && d >= deviation[(k + n - 1) % n]
                 && d >= deviation[(k + 1) % n]
@@ -401,8 +409,15 @@ pub(crate) fn check(
                 bad.push(k);
             }
         }
-        bad_points.push(bad);
-    }
+        (worst, bad)
+    };
+    let per_contour: Vec<(f64, Vec<usize>)> = if parallel {
+        contours.par_iter().enumerate().map(deviation_of).collect()
+    } else {
+        contours.iter().enumerate().map(deviation_of).collect()
+    };
+    let max_deviation = per_contour.iter().map(|r| r.0).fold(0.0, f64::max);
+    let bad_points = per_contour.into_iter().map(|r| r.1).collect();
 
     // 2. Disagreement between the drawn shape and the thresholded input.
     let (w, h) = (bitmap.width as usize, bitmap.height as usize);
@@ -425,11 +440,11 @@ pub(crate) fn check(
         }
     }
     let threshold = bitmap.threshold();
-    let mut far: HashSet<u32> = HashSet::new();
-    let mut coverage = vec![0.0; w];
-    for (row, xs) in crossings.iter_mut().enumerate() {
+    // The far pixels of one row, given its crossings (sorted here) and a buffer for its
+    // coverage.
+    let far_in_row = |row: usize, xs: &mut Vec<f64>, coverage: &mut Vec<f32>, far: &mut Vec<u32>| {
         xs.sort_by(f64::total_cmp);
-        bitmap.read_row(row, &mut coverage);
+        bitmap.read_row(row, coverage);
         let (mut next, mut inside, mut col) = (0, false, 0);
         while col < w {
             // Crossings at or before this pixel's centre.
@@ -452,14 +467,37 @@ pub(crate) fn check(
                     if !excused.contains(&index) {
                         let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
                         if !grid.any_within(centre, SHAPE_LIMIT) {
-                            far.insert(index);
+                            far.push(index);
                         }
                     }
                 }
             }
             col = end;
         }
-    }
+    };
+    let far_pixels: Vec<u32> = if parallel {
+        crossings
+            .par_iter_mut()
+            .enumerate()
+            .map_init(
+                || vec![0.0; w],
+                |coverage, (row, xs)| {
+                    let mut far = Vec::new();
+                    far_in_row(row, xs, coverage, &mut far);
+                    far
+                },
+            )
+            .flatten_iter()
+            .collect()
+    } else {
+        let mut coverage = vec![0.0; w];
+        let mut far = Vec::new();
+        for (row, xs) in crossings.iter_mut().enumerate() {
+            far_in_row(row, xs, &mut coverage, &mut far);
+        }
+        far
+    };
+    let far: HashSet<u32> = far_pixels.into_iter().collect();
     let mut regions = Vec::new();
     let mut largest: (f64, Option<[u32; 4]>) = (0.0, None);
     let mut seen: HashSet<u32> = HashSet::new();
