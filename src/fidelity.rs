@@ -442,39 +442,40 @@ pub(crate) fn check(
     let threshold = bitmap.threshold();
     // The far pixels of one row, given its crossings (sorted here) and a buffer for its
     // coverage.
-    let far_in_row = |row: usize, xs: &mut Vec<f64>, coverage: &mut Vec<f32>, far: &mut Vec<u32>| {
-        xs.sort_by(f64::total_cmp);
-        bitmap.read_row(row, coverage);
-        let (mut next, mut inside, mut col) = (0, false, 0);
-        while col < w {
-            // Crossings at or before this pixel's centre.
-            while next < xs.len() && xs[next] <= col as f64 + 0.5 {
-                inside = !inside;
-                next += 1;
-            }
-            // The run of pixels up to the next crossing, all on one side of the drawn
-            // outline: most runs agree with the mask everywhere, which a vectorised count
-            // tells before any pixel is looked at alone.
-            let end = match xs.get(next) {
-                Some(&x) => run_end(col, x, w),
-                None => w,
-            };
-            let run = &coverage[col..end];
-            let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
-            if run.iter().filter(|&&v| disagree(v)).count() > 0 {
-                for (k, _) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
-                    let index = (row * w + col + k) as u32;
-                    if !excused.contains(&index) {
-                        let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
-                        if !grid.any_within(centre, SHAPE_LIMIT) {
-                            far.push(index);
+    let far_in_row =
+        |row: usize, xs: &mut Vec<f64>, coverage: &mut Vec<f32>, far: &mut Vec<u32>| {
+            xs.sort_by(f64::total_cmp);
+            bitmap.read_row(row, coverage);
+            let (mut next, mut inside, mut col) = (0, false, 0);
+            while col < w {
+                // Crossings at or before this pixel's centre.
+                while next < xs.len() && xs[next] <= col as f64 + 0.5 {
+                    inside = !inside;
+                    next += 1;
+                }
+                // The run of pixels up to the next crossing, all on one side of the drawn
+                // outline: most runs agree with the mask everywhere, which a vectorised count
+                // tells before any pixel is looked at alone.
+                let end = match xs.get(next) {
+                    Some(&x) => run_end(col, x, w),
+                    None => w,
+                };
+                let run = &coverage[col..end];
+                let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
+                if run.iter().filter(|&&v| disagree(v)).count() > 0 {
+                    for (k, _) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
+                        let index = (row * w + col + k) as u32;
+                        if !excused.contains(&index) {
+                            let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
+                            if !grid.any_within(centre, SHAPE_LIMIT) {
+                                far.push(index);
+                            }
                         }
                     }
                 }
+                col = end;
             }
-            col = end;
-        }
-    };
+        };
     let far_pixels: Vec<u32> = if parallel {
         crossings
             .par_iter_mut()

@@ -151,3 +151,62 @@ fn one_large_contour_with_corners_gives_the_same_result_on_one_and_three_threads
     assert_eq!(to_svg(&one, &opts), to_svg(&three, &opts));
     assert!(one.fidelity.held);
 }
+
+/// A 1120 × 800 page of 28 × 20 anti-aliased rings and disks at a 40 px pitch: enough
+/// pixel-edge cracks and data points beside the largest border that the borders are
+/// refined, and the fidelity check measured, on the thread pool.
+fn large_page() -> Bitmap {
+    let (cols, rows, pitch) = (28usize, 20usize, 40.0);
+    let shape = |k: usize| {
+        let (i, j) = (k % cols, k / cols);
+        let r = 9.0 + (k * 7 % 13) as f64 / 2.0;
+        let centre = (
+            20.0 + pitch * i as f64 + 0.37 * (j % 5) as f64,
+            20.0 + pitch * j as f64 + 0.21 * (i % 3) as f64,
+        );
+        (centre, r, k % 3 == 0)
+    };
+    let inside = |x: f64, y: f64| {
+        let (i, j) = ((x / pitch) as usize, (y / pitch) as usize);
+        if i >= cols || j >= rows {
+            return false;
+        }
+        let ((cx, cy), r, ring) = shape(j * cols + i);
+        let d = ((x - cx).powi(2) + (y - cy).powi(2)).sqrt();
+        d < r && !(ring && d < 0.45 * r)
+    };
+    supersampled(cols * pitch as usize, rows * pitch as usize, inside)
+}
+
+#[test]
+fn contour_refinement_and_fidelity_check_give_the_same_result_on_one_and_three_threads() {
+    let bitmap = large_page();
+    let config = Config {
+        timings: false,
+        ..Config::default()
+    };
+    let one = on_threads(1, &bitmap, &config);
+    let three = on_threads(3, &bitmap, &config);
+    // 560 shapes, a third of them rings with a hole.
+    assert_eq!(one.contours.len(), 560 + 187);
+    let points: usize = one.contours.iter().map(|c| c.points.len()).sum();
+    assert!(points >= 40_000, "{points}");
+    assert_eq!(one.contours.len(), three.contours.len());
+    for (a, b) in one.contours.iter().zip(&three.contours) {
+        assert_eq!(a.points, b.points);
+        assert_eq!(a.is_hole, b.is_hole);
+        assert_eq!(a.parent, b.parent);
+    }
+    let opts = SvgOptions::default();
+    assert_eq!(to_svg(&one, &opts), to_svg(&three, &opts));
+    assert!(one.fidelity.held && three.fidelity.held);
+    assert_eq!(
+        one.fidelity.max_deviation.to_bits(),
+        three.fidelity.max_deviation.to_bits()
+    );
+    assert!(
+        one.fidelity.max_deviation <= 0.325,
+        "{}",
+        one.fidelity.max_deviation
+    );
+}

@@ -395,8 +395,7 @@ fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> Cub
         if worst < best.0 {
             best = (worst, lengths, params.clone());
         }
-        let hopeless =
-            (round >= 3 && best.0 > 4.0 * bound) || (round >= 7 && best.0 > 1.5 * bound);
+        let hopeless = (round >= 3 && best.0 > 4.0 * bound) || (round >= 7 && best.0 > 1.5 * bound);
         let good_enough = best.0 <= 0.75 * bound;
         if good_enough || hopeless || total <= 0.0 || total.is_nan() {
             break;
