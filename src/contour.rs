@@ -648,6 +648,8 @@ fn outline_noise(points: &[Point]) -> f64 {
 
 /// Sharpest turn (degrees, over chords of `SPIKE_REACH` px) that counts as a spike tip.
 const SPIKE_TURN_DEG: f64 = 100.0;
+// `extend_spikes` stores turns of at most 90° without their arctangent.
+const _: () = assert!(SPIKE_TURN_DEG > 90.0);
 /// Arc length (px) to the chord ends of the spike detector.
 const SPIKE_REACH: f64 = 2.0;
 /// Arc length (px) next to a tip left out of its side lines (rounded, or thinner than a
@@ -700,15 +702,21 @@ fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
     let at = |k: i64| points[k.rem_euclid(nn) as usize];
     let back_by = |i: i64, len: f64| walk.back_by(i, len);
     let ahead_by = |i: i64, len: f64| walk.ahead_by(i, len);
+    let limit = SPIKE_TURN_DEG.to_radians();
+    // Only turns above the limit are compared with each other; one whose two chords do not
+    // point against each other (a turn of at most 90°, below the 100° limit) is stored as
+    // a quarter turn without its arctangent, which keeps every comparison below as it was.
     let turn: Vec<f64> = (0..nn)
         .map(|i| {
-            turn_angle(
-                at(i) - at(back_by(i, SPIKE_REACH)),
-                at(ahead_by(i, SPIKE_REACH)) - at(i),
-            )
+            let back = at(i) - at(back_by(i, SPIKE_REACH));
+            let ahead = at(ahead_by(i, SPIKE_REACH)) - at(i);
+            if back.dot(ahead) >= 0.0 {
+                std::f64::consts::FRAC_PI_2
+            } else {
+                turn_angle(back, ahead)
+            }
         })
         .collect();
-    let limit = SPIKE_TURN_DEG.to_radians();
     let bilevel = bitmap.is_bilevel();
     // (first replaced unrolled index, count, new tip)
     let mut edits: Vec<(i64, i64, Point)> = Vec::new();
