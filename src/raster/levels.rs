@@ -88,10 +88,19 @@ impl Levels {
     /// How many pixels have each coverage value: (value, count) for every level used.
     pub(super) fn histogram(&self) -> Vec<(f32, u64)> {
         fn count<L: Copy + Into<usize>>(v: &[L], table: &[f32]) -> Vec<(f32, u64)> {
-            let mut counts = vec![0u64; table.len()];
-            for &l in v {
-                counts[l.into()] += 1;
+            // Four interleaved tallies: runs of one level (a page's white paper) would
+            // otherwise make every increment wait for the one before it.
+            let mut lanes = vec![vec![0u64; table.len()]; 4];
+            let mut chunks = v.chunks_exact(4);
+            for quad in &mut chunks {
+                for (lane, &l) in lanes.iter_mut().zip(quad) {
+                    lane[l.into()] += 1;
+                }
             }
+            for &l in chunks.remainder() {
+                lanes[0][l.into()] += 1;
+            }
+            let counts = (0..table.len()).map(|k| lanes.iter().map(|lane| lane[k]).sum::<u64>());
             table
                 .iter()
                 .zip(counts)
