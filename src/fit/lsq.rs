@@ -65,7 +65,7 @@ impl LsqOptions {
 
 /// Data points the weight search of a segment evaluates (see
 /// [`FitSettings::search_points`]).
-const LSQ_SEARCH_POINTS: usize = 12;
+const LSQ_SEARCH_POINTS: usize = 24;
 
 /// A joint while the chain is being built.
 #[derive(Clone, Copy, Debug)]

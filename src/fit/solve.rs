@@ -58,7 +58,7 @@ pub struct FitSettings {
     /// evenly spaced along the run (the ends always among them); the control points are
     /// then solved on every point at the weights found. `None` searches on every point.
     /// The objective is smooth in the weights and the data dense (about a point per pixel),
-    /// so a dozen points place its minimum close to where all of them do, at a
+    /// so a few dozen points place its minimum close to where all of them do, at a
     /// fraction of the cost on long runs.
     pub search_points: Option<usize>,
 }
