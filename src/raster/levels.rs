@@ -87,20 +87,7 @@ impl Levels {
 
     /// How many pixels have each coverage value: (value, count) for every level used.
     pub(super) fn histogram(&self) -> Vec<(f32, u64)> {
-        fn count<L: Copy + Into<usize>>(v: &[L], table: &[f32]) -> Vec<(f32, u64)> {
-            // Four interleaved tallies: runs of one level (a page's white paper) would
-            // otherwise make every increment wait for the one before it.
-            let mut lanes = vec![vec![0u64; table.len()]; 4];
-            let mut chunks = v.chunks_exact(4);
-            for quad in &mut chunks {
-                for (lane, &l) in lanes.iter_mut().zip(quad) {
-                    lane[l.into()] += 1;
-                }
-            }
-            for &l in chunks.remainder() {
-                lanes[0][l.into()] += 1;
-            }
-            let counts = (0..table.len()).map(|k| lanes.iter().map(|lane| lane[k]).sum::<u64>());
+        fn used(table: &[f32], counts: impl Iterator<Item = u64>) -> Vec<(f32, u64)> {
             table
                 .iter()
                 .zip(counts)
@@ -109,8 +96,31 @@ impl Levels {
                 .collect()
         }
         match self {
-            Levels::Byte(v, t) => count(v, &t[..]),
-            Levels::Word(v, t) => count(v, &t[..]),
+            Levels::Byte(v, t) => {
+                // Four interleaved tallies: runs of one level (a page's white paper) would
+                // otherwise make every increment wait for the one before it.
+                let mut lanes = [[0u64; 256]; 4];
+                let mut quads = v.chunks_exact(4);
+                for quad in &mut quads {
+                    for (lane, &l) in lanes.iter_mut().zip(quad) {
+                        lane[usize::from(l)] += 1;
+                    }
+                }
+                for &l in quads.remainder() {
+                    lanes[0][usize::from(l)] += 1;
+                }
+                used(
+                    &t[..],
+                    (0..256).map(|k| lanes.iter().map(|lane| lane[k]).sum()),
+                )
+            }
+            Levels::Word(v, t) => {
+                let mut counts = vec![0u64; t.len()];
+                for &l in v {
+                    counts[usize::from(l)] += 1;
+                }
+                used(&t[..], counts.into_iter())
+            }
         }
     }
 }
