@@ -54,9 +54,10 @@ pub struct FitSettings {
     /// Exact recovery needs more than one: data spaced far from centripetally can lead
     /// every start of one rule into the same wrong basin.
     pub initial: &'static [Parameterization],
-    /// The weight search evaluates its objective on at most about this many data points,
-    /// evenly spaced along the run (the ends always among them); the control points are
-    /// then solved on every point at the weights found. `None` searches on every point.
+    /// The weight search of a run of at least twice this many data points evaluates its
+    /// objective on every k-th point (and the last), k the largest step that keeps this
+    /// many, so between this many and twice as many; the control points are then solved on
+    /// every point at the weights found. `None` searches on every point.
     /// The objective is smooth in the weights and the data dense (about a point per pixel),
     /// so a few dozen points place its minimum close to where all of them do, at a
     /// fraction of the cost on long runs.
@@ -721,31 +722,23 @@ pub fn fit_segment_from(
             })
             .collect(),
     };
-    // The points (and their parameters) the weight search evaluates.
+    // The weight search evaluates every `stride`-th point (and the last) of a long run.
     let stride = settings
         .search_points
         .map_or(1, |m| (points.len() / m.max(2)).max(1));
-    let mut search_points = Vec::new();
-    let mut search_params = Vec::new();
-    if stride > 1 {
-        search_points = strided(points, stride);
-    }
-    let searched = |params: &[f64], search_params: &mut Vec<f64>| {
-        if stride > 1 {
-            *search_params = strided(params, stride);
-        }
+    let search_points = (stride > 1).then(|| strided(points, stride));
+    let search_model = |params: &[f64]| {
+        search_points.as_deref().map(|subset| {
+            LinearModel::with_scale(subset, &strided(params, stride), start, end, scale)
+        })
     };
     for initial in inits {
         if settings.fixed_weights() {
             runs.push((initial.clone(), [settings.weight_range.0; 2]));
             continue;
         }
-        searched(&initial, &mut search_params);
-        let model = if stride > 1 {
-            LinearModel::with_scale(&search_points, &search_params, start, end, scale)
-        } else {
-            LinearModel::with_scale(points, &initial, start, end, scale)
-        };
+        let model = search_model(&initial)
+            .unwrap_or_else(|| LinearModel::with_scale(points, &initial, start, end, scale));
         let (starts, ev) = grid_starts(&model, settings.weight_range, settings.starts.max(1));
         evaluations += ev;
         runs.extend(starts.into_iter().map(|w| (initial.clone(), w)));
@@ -764,14 +757,10 @@ pub fn fit_segment_from(
             if !settings.fixed_weights() {
                 // Later rounds only adjust: the parameters moved a little.
                 let step = if round == 0 { 0.5 } else { 0.1 };
-                let (w, _, ev) = if stride > 1 {
-                    searched(&params, &mut search_params);
-                    let coarse =
-                        LinearModel::with_scale(&search_points, &search_params, start, end, scale);
-                    search_weights(&coarse, settings.weight_range, weights, step, 0.02)
-                } else {
-                    search_weights(&model, settings.weight_range, weights, step, 0.02)
-                };
+                let coarse = search_model(&params);
+                let searched = coarse.as_ref().unwrap_or(&model);
+                let (w, _, ev) =
+                    search_weights(searched, settings.weight_range, weights, step, 0.02);
                 evaluations += ev;
                 weights = w;
             }
