@@ -164,7 +164,7 @@ fn large_page() -> Bitmap {
             20.0 + pitch * i as f64 + 0.37 * (j % 5) as f64,
             20.0 + pitch * j as f64 + 0.21 * (i % 3) as f64,
         );
-        (centre, r, k % 3 == 0)
+        (centre, r, k.is_multiple_of(3))
     };
     let inside = |x: f64, y: f64| {
         let (i, j) = ((x / pitch) as usize, (y / pitch) as usize);
