@@ -402,11 +402,11 @@ impl Extraction {
     }
 }
 
-/// [`extract_contours`] keeping the borders.
 /// Fewest pixel-edge cracks outside the largest border for which the borders of an image
 /// are refined in parallel (a small image would spend more on starting the thread pool).
 const PARALLEL_CRACKS: usize = 20_000;
 
+/// [`extract_contours`] keeping the borders.
 pub(crate) fn extract_borders(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Extraction> {
     extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)
 }

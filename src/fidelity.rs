@@ -162,15 +162,16 @@ fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
                 return Vec::new();
             }
             let pieces = drawing_pieces(c, bound);
-            let total = pieces
+            // Step counts once, so that the polyline is allocated at its exact size.
+            let steps: Vec<usize> = pieces
                 .iter()
-                .map(|(_, cubics)| 1 + cubics.iter().map(flatten_steps).sum::<usize>())
-                .sum();
-            let mut out = Vec::with_capacity(total);
+                .flat_map(|(_, cubics)| cubics.iter().map(flatten_steps))
+                .collect();
+            let mut out = Vec::with_capacity(pieces.len() + steps.iter().sum::<usize>());
+            let mut steps = steps.into_iter();
             for (start, cubics) in pieces {
                 out.push(start);
-                for cubic in cubics {
-                    let n = flatten_steps(&cubic);
+                for (cubic, n) in cubics.iter().zip(&mut steps) {
                     for k in 1..=n {
                         out.push(cubic.eval(k as f64 / n as f64));
                     }
@@ -442,40 +443,39 @@ pub(crate) fn check(
     let threshold = bitmap.threshold();
     // The far pixels of one row, given its crossings (sorted here) and a buffer for its
     // coverage.
-    let far_in_row =
-        |row: usize, xs: &mut Vec<f64>, coverage: &mut Vec<f32>, far: &mut Vec<u32>| {
-            xs.sort_by(f64::total_cmp);
-            bitmap.read_row(row, coverage);
-            let (mut next, mut inside, mut col) = (0, false, 0);
-            while col < w {
-                // Crossings at or before this pixel's centre.
-                while next < xs.len() && xs[next] <= col as f64 + 0.5 {
-                    inside = !inside;
-                    next += 1;
-                }
-                // The run of pixels up to the next crossing, all on one side of the drawn
-                // outline: most runs agree with the mask everywhere, which a vectorised count
-                // tells before any pixel is looked at alone.
-                let end = match xs.get(next) {
-                    Some(&x) => run_end(col, x, w),
-                    None => w,
-                };
-                let run = &coverage[col..end];
-                let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
-                if run.iter().filter(|&&v| disagree(v)).count() > 0 {
-                    for (k, _) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
-                        let index = (row * w + col + k) as u32;
-                        if !excused.contains(&index) {
-                            let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
-                            if !grid.any_within(centre, SHAPE_LIMIT) {
-                                far.push(index);
-                            }
+    let far_in_row = |row: usize, xs: &mut [f64], coverage: &mut [f32], far: &mut Vec<u32>| {
+        xs.sort_by(f64::total_cmp);
+        bitmap.read_row(row, coverage);
+        let (mut next, mut inside, mut col) = (0, false, 0);
+        while col < w {
+            // Crossings at or before this pixel's centre.
+            while next < xs.len() && xs[next] <= col as f64 + 0.5 {
+                inside = !inside;
+                next += 1;
+            }
+            // The run of pixels up to the next crossing, all on one side of the drawn
+            // outline: most runs agree with the mask everywhere, which a vectorised count
+            // tells before any pixel is looked at alone.
+            let end = match xs.get(next) {
+                Some(&x) => run_end(col, x, w),
+                None => w,
+            };
+            let run = &coverage[col..end];
+            let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
+            if run.iter().filter(|&&v| disagree(v)).count() > 0 {
+                for (k, _) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
+                    let index = (row * w + col + k) as u32;
+                    if !excused.contains(&index) {
+                        let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
+                        if !grid.any_within(centre, SHAPE_LIMIT) {
+                            far.push(index);
                         }
                     }
                 }
-                col = end;
             }
-        };
+            col = end;
+        }
+    };
     let far_pixels: Vec<u32> = if parallel {
         crossings
             .par_iter_mut()

@@ -95,52 +95,43 @@ fn resolve_diagonals(mask: &mut Bits, width: usize, height: usize, bitmap: &Bitm
         // A pair at columns c, c + 1 (1 ≤ c < width − 2) needs this row's colour to change
         // between them: visit the changes a 64-pixel word at a time (bit i of `changes`
         // says pixel i differs from pixel i − 1).
-        let (first, last) = (r * width + 2, r * width + width - 1);
-        for k in first / 64..last.div_ceil(64) {
-            let word = mask.0[k];
-            let carry = if k > 0 { mask.0[k - 1] >> 63 } else { 0 };
-            let base = 64 * k;
-            let mut changes = (word ^ ((word << 1) | carry))
-                & bit_range(first.saturating_sub(base), (last - base).min(64));
-            while changes != 0 {
-                let c = base + changes.trailing_zeros() as usize - 1 - r * width;
-                changes &= changes - 1;
-                let (a, b) = (fg(mask, c, r), fg(mask, c + 1, r));
-                let (d, e) = (fg(mask, c, r + 1), fg(mask, c + 1, r + 1));
-                // Background on one diagonal, foreground on the other.
-                let pair = match (a, b, d, e) {
-                    (false, true, true, false) => [(c + 1, r), (c, r + 1)],
-                    (true, false, false, true) => [(c, r), (c + 1, r + 1)],
-                    _ => continue,
-                };
-                let (r0, r1) = (
-                    r.saturating_sub(DIAGONAL_WINDOW - 1),
-                    (r + 1 + DIAGONAL_WINDOW).min(height - 1),
-                );
-                let (c0, c1) = (
-                    c.saturating_sub(DIAGONAL_WINDOW - 1),
-                    (c + 1 + DIAGONAL_WINDOW).min(width - 1),
-                );
-                let (mut ink, mut all) = (0, 0);
-                for rr in r0..=r1 {
-                    for cc in c0..=c1 {
-                        ink += usize::from(fg(mask, cc, rr));
-                        all += 1;
-                    }
+        let row = r * width;
+        for i in mask.changes(row + 2, row + width - 1) {
+            let c = i - 1 - row;
+            let (a, b) = (fg(mask, c, r), fg(mask, c + 1, r));
+            let (d, e) = (fg(mask, c, r + 1), fg(mask, c + 1, r + 1));
+            // Background on one diagonal, foreground on the other.
+            let pair = match (a, b, d, e) {
+                (false, true, true, false) => [(c + 1, r), (c, r + 1)],
+                (true, false, false, true) => [(c, r), (c + 1, r + 1)],
+                _ => continue,
+            };
+            let (r0, r1) = (
+                r.saturating_sub(DIAGONAL_WINDOW - 1),
+                (r + 1 + DIAGONAL_WINDOW).min(height - 1),
+            );
+            let (c0, c1) = (
+                c.saturating_sub(DIAGONAL_WINDOW - 1),
+                (c + 1 + DIAGONAL_WINDOW).min(width - 1),
+            );
+            let (mut ink, mut all) = (0, 0);
+            for rr in r0..=r1 {
+                for cc in c0..=c1 {
+                    ink += usize::from(fg(mask, cc, rr));
+                    all += 1;
                 }
-                if 2 * ink <= all {
-                    continue;
-                }
-                // Padded coordinates → image pixels.
-                let cov =
-                    |(cc, rr): (usize, usize)| bitmap.coverage_at(cc as i64 - 1, rr as i64 - 1);
-                let faint = if cov(pair[0]) <= cov(pair[1]) {
-                    pair[0]
-                } else {
-                    pair[1]
-                };
-                flips.push(faint);
             }
+            if 2 * ink <= all {
+                continue;
+            }
+            // Padded coordinates → image pixels.
+            let cov = |(cc, rr): (usize, usize)| bitmap.coverage_at(cc as i64 - 1, rr as i64 - 1);
+            let faint = if cov(pair[0]) <= cov(pair[1]) {
+                pair[0]
+            } else {
+                pair[1]
+            };
+            flips.push(faint);
         }
     }
     for (c, r) in flips {
@@ -166,6 +157,27 @@ impl Bits {
         if let Some(w) = self.0.get_mut(i >> 6) {
             *w |= 1 << (i & 63);
         }
+    }
+
+    /// The indices `i` in `first..last` (`first ≥ 1`) whose bit differs from bit `i − 1`,
+    /// in order, found a 64-bit word at a time.
+    fn changes(&self, first: usize, last: usize) -> impl Iterator<Item = usize> + '_ {
+        let words = first / 64..last.div_ceil(64).min(self.0.len());
+        words.flat_map(move |k| {
+            let word = self.0[k];
+            let carry = if k > 0 { self.0[k - 1] >> 63 } else { 0 };
+            let base = 64 * k;
+            let mut changes = (word ^ ((word << 1) | carry))
+                & bit_range(first.saturating_sub(base), (last - base).min(64));
+            std::iter::from_fn(move || {
+                if changes == 0 {
+                    return None;
+                }
+                let i = base + changes.trailing_zeros() as usize;
+                changes &= changes - 1;
+                Some(i)
+            })
+        })
     }
 
     #[inline]
@@ -291,44 +303,30 @@ impl PaddedMask {
         // found a 64-pixel word at a time (rows are consecutive in the bit sets, and the
         // padding column keeps a row's first pixel from pairing with the row above).
         let (first, last) = (w + 1, h.saturating_sub(1) * w);
-        let words = self.foreground.0.len();
-        for k in first / 64..words.min(last.div_ceil(64)) {
-            let word = self.foreground.0[k];
-            let carry = if k > 0 {
-                self.foreground.0[k - 1] >> 63
-            } else {
-                0
-            };
-            let base = 64 * k;
-            let mut changes = (word ^ ((word << 1) | carry))
-                & bit_range(first.saturating_sub(base), (last - base).min(64));
-            while changes != 0 {
-                let i = base + changes.trailing_zeros() as usize;
-                changes &= changes - 1;
-                // A loop traced earlier in the scan may have passed here.
-                if self.traced.get(i) {
-                    continue;
-                }
-                let (x, y) = (i % w, i / w);
-                let here = self.foreground.get(i);
-                let is_hole = !here;
-                let (xi, yi) = (x as i64, y as i64);
-                if is_hole {
-                    // Down the right side of the foreground pixel on the left.
-                    self.trace((xi, yi), 1, &mut cracks);
-                } else {
-                    // Up the left side of this foreground pixel.
-                    self.trace((xi, yi + 1), 3, &mut cracks);
-                }
-                for (cx, cy) in cracks.iter().filter_map(vertical_crack) {
-                    self.traced.set(cy * w + cx);
-                }
-                found.push(FoundBorder {
-                    cracks: std::mem::take(&mut cracks),
-                    is_hole,
-                    parent: None,
-                });
+        for i in self.foreground.changes(first, last) {
+            // A loop traced earlier in the scan may have passed here.
+            if self.traced.get(i) {
+                continue;
             }
+            let (x, y) = (i % w, i / w);
+            let here = self.foreground.get(i);
+            let is_hole = !here;
+            let (xi, yi) = (x as i64, y as i64);
+            if is_hole {
+                // Down the right side of the foreground pixel on the left.
+                self.trace((xi, yi), 1, &mut cracks);
+            } else {
+                // Up the left side of this foreground pixel.
+                self.trace((xi, yi + 1), 3, &mut cracks);
+            }
+            for (cx, cy) in cracks.iter().filter_map(vertical_crack) {
+                self.traced.set(cy * w + cx);
+            }
+            found.push(FoundBorder {
+                cracks: std::mem::take(&mut cracks),
+                is_hole,
+                parent: None,
+            });
         }
         // Every vertical crack by row, sorted by column, with its border: the crack just
         // left of a border's first crack bounds the region that border sits in.

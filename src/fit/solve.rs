@@ -723,9 +723,10 @@ pub fn fit_segment_from(
             .collect(),
     };
     // The weight search evaluates every `stride`-th point (and the last) of a long run.
-    let stride = settings
-        .search_points
-        .map_or(1, |m| (points.len() / m.max(2)).max(1));
+    let stride = match settings.search_points {
+        Some(m) if !settings.fixed_weights() => (points.len() / m.max(2)).max(1),
+        _ => 1,
+    };
     let search_points = (stride > 1).then(|| strided(points, stride));
     let search_model = |params: &[f64]| {
         search_points.as_deref().map(|subset| {
