@@ -39,7 +39,7 @@
 //! non-finite cubics rather than an error; callers that write files check for that.
 
 use super::power::PowerCubic;
-use super::rational::CONVERGED_STEP;
+use super::power::CONVERGED_STEP;
 use super::RationalCubic;
 use crate::geom::Point;
 

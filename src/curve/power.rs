@@ -9,8 +9,26 @@
 //! of round-off of the largest coordinate (1e-12 px at 10 000 px), far below anything
 //! the fit measures.
 
-use super::rational::{CurveJet, RationalCubic, CONVERGED_STEP};
 use crate::geom::Point;
+
+/// Newton steps on the parameter shorter than this end a projection: on a segment of
+/// 1000 px they move the foot by 1e-7 px.
+pub(crate) const CONVERGED_STEP: f64 = 1e-10;
+
+/// Newton steps shorter than this end a projection that runs to round-off of the
+/// parameter (`RationalCubic::refine_projection`).
+pub(crate) const EXACT_STEP: f64 = 1e-15;
+
+/// Position and derivatives of a curve at one parameter.
+#[derive(Clone, Copy, Debug)]
+pub struct CurveJet {
+    /// P(u).
+    pub point: Point,
+    /// P'(u).
+    pub d1: Point,
+    /// P''(u).
+    pub d2: Point,
+}
 
 /// Power-form coefficients [a, b, c, d] of the cubic with Bézier values `p`.
 #[inline]
@@ -44,13 +62,9 @@ pub struct PowerCubic {
 }
 
 impl PowerCubic {
-    /// The power form of `curve`.
-    pub fn new(curve: &RationalCubic) -> Self {
-        let c = &curve.points;
-        if curve.is_polynomial() {
-            return PowerCubic::polynomial(c);
-        }
-        let w = curve.all_weights();
+    /// The power form of the rational cubic with control points `c` and weights `w`
+    /// (all four).
+    pub fn rational(c: &[Point; 4], w: [f64; 4]) -> Self {
         PowerCubic {
             x: coefficients([c[0].x, w[1] * c[1].x, w[2] * c[2].x, c[3].x]),
             y: coefficients([c[0].y, w[1] * c[1].y, w[2] * c[2].y, c[3].y]),
@@ -184,6 +198,7 @@ impl PowerCubic {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::curve::RationalCubic;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -204,7 +219,7 @@ mod tests {
                 [rng.random_range(0.01..2.5), rng.random_range(0.01..2.5)]
             };
             let curve = RationalCubic::new(points, weights);
-            let power = PowerCubic::new(&curve);
+            let power = curve.power_form();
             for j in 0..=20 {
                 let u = j as f64 / 20.0;
                 let (a, b) = (curve.jet(u), power.jet(u));

@@ -6,17 +6,10 @@
 //! points onto it (nearest point by a global scan followed by Newton's method), and
 //! subdivides it. Written by hand: no maintained crate offers rational cubics.
 
-use super::power::PowerCubic;
+pub use super::power::CurveJet;
+use super::power::{PowerCubic, EXACT_STEP};
 use crate::geom::Point;
 use serde::{Deserialize, Serialize};
-
-/// Newton steps on the parameter shorter than this end a projection: on a segment of
-/// 1000 px they move the foot by 1e-7 px.
-pub(crate) const CONVERGED_STEP: f64 = 1e-10;
-
-/// Newton steps shorter than this end [`RationalCubic::refine_projection`]: it runs to
-/// round-off of the parameter.
-pub(crate) const EXACT_STEP: f64 = 1e-15;
 
 /// Cubic Bernstein basis values at `u`.
 #[inline]
@@ -50,17 +43,6 @@ pub struct RationalCubic {
     pub points: [Point; 4],
     /// Inner weights w1, w2 (the end weights are 1).
     pub weights: [f64; 2],
-}
-
-/// Position and derivatives of a curve at one parameter.
-#[derive(Clone, Copy, Debug)]
-pub struct CurveJet {
-    /// P(u).
-    pub point: Point,
-    /// P'(u).
-    pub d1: Point,
-    /// P''(u).
-    pub d2: Point,
 }
 
 impl RationalCubic {
@@ -156,20 +138,24 @@ impl RationalCubic {
     /// do not increase the distance). Returns `(u, |P(u) − q|)`. Converges to the nearest
     /// point in the basin of `u0`; use [`RationalCubic::nearest`] for the global nearest point.
     pub fn refine_projection(&self, q: Point, u0: f64) -> (f64, f64) {
-        PowerCubic::new(self).refine_projection(q, u0, EXACT_STEP)
+        self.power_form().refine_projection(q, u0, EXACT_STEP)
     }
 
     /// The curve in power form, for evaluating it at many parameters
     /// (projections of many points).
     pub fn power_form(&self) -> PowerCubic {
-        PowerCubic::new(self)
+        if self.is_polynomial() {
+            PowerCubic::polynomial(&self.points)
+        } else {
+            PowerCubic::rational(&self.points, self.all_weights())
+        }
     }
 
     /// A cheap projection step for parameter correction: `iterations` plain Newton steps
     /// on (P(u) − q)·P'(u) = 0 from `u0`, clamped to [0, 1], keeping a step only when it
     /// brings the point closer. Returns the new parameter.
     pub fn project_quick(&self, q: Point, u0: f64, iterations: usize) -> f64 {
-        PowerCubic::new(self).project_quick(q, u0, iterations)
+        self.power_form().project_quick(q, u0, iterations)
     }
 
     /// The global nearest point of the curve to `q`: a scan of `samples + 1` evenly spaced

@@ -15,7 +15,8 @@
 //! over control points and weights together, so that data lying exactly on a rational
 //! cubic is recovered to round-off.
 
-use crate::curve::rational::{bernstein, nearest_sample, RationalCubic, EXACT_STEP};
+use crate::curve::power::EXACT_STEP;
+use crate::curve::rational::{bernstein, nearest_sample, RationalCubic};
 use crate::fit::SegmentError;
 use crate::geom::Point;
 use crate::param::{centripetal_parameters, parameters_into, Parameterization};
