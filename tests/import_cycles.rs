@@ -387,7 +387,7 @@ fn paths_in(t: &[String]) -> Vec<(Vec<String>, Vec<String>)> {
             "use" => {
                 let end = (i..t.len()).find(|&k| t[k] == ";").unwrap_or(t.len());
                 let mut paths = Vec::new();
-                use_tree(&t[i + 1..end], &mut Vec::new(), &mut paths);
+                use_tree(&t[i + 1..end], &[], &mut paths);
                 let here = names();
                 let paths = paths.into_iter().map(|p| (here.clone(), p));
                 if is_reexport(t, i) {
@@ -497,7 +497,7 @@ fn skip_item(t: &[String], mut i: usize) -> usize {
 
 /// Expands a `use` tree (`a::{b, c::{d, self}, e as f, *}`) into paths, each with the
 /// name it brings into scope (`*` for a glob).
-fn use_tree(t: &[String], prefix: &mut Vec<String>, out: &mut Vec<(Vec<String>, String)>) {
+fn use_tree(t: &[String], prefix: &[String], out: &mut Vec<(Vec<String>, String)>) {
     // Split the tree at top-level commas.
     let mut level = 0;
     let mut start = 0;
@@ -515,7 +515,7 @@ fn use_tree(t: &[String], prefix: &mut Vec<String>, out: &mut Vec<(Vec<String>, 
     }
     parts.push(&t[start..]);
     for part in parts {
-        let mut path = prefix.clone();
+        let mut path = prefix.to_vec();
         let mut local = None;
         let mut k = 0;
         while k < part.len() {
@@ -523,7 +523,7 @@ fn use_tree(t: &[String], prefix: &mut Vec<String>, out: &mut Vec<(Vec<String>, 
                 "::" | "pub" => k += 1,
                 "{" => {
                     let close = part.iter().rposition(|s| s == "}").unwrap_or(part.len());
-                    use_tree(&part[k + 1..close], &mut path, out);
+                    use_tree(&part[k + 1..close], &path, out);
                     path.clear();
                     break;
                 }
