@@ -17,9 +17,8 @@
 //! (linear interpolation along the polygon), so every break is a data point.
 
 use crate::contour::Contour;
-use crate::fit::JointKind;
 use crate::geom::{angle_between, wrap_once, Point};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Options of break detection.
 #[derive(Clone, Debug)]
@@ -63,6 +62,16 @@ pub enum BreakReason {
     /// Added by the fidelity repair where the drawn outline left its data
     /// ([`crate::fidelity`]).
     Repair,
+}
+
+/// How two neighbouring segments meet at a break.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointKind {
+    /// Tangent discontinuity (G0 only), found as a corner of the outline.
+    Corner,
+    /// Shared unit tangent (G1).
+    Smooth,
 }
 
 /// One break point of a contour.

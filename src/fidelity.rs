@@ -23,7 +23,6 @@
 //! in [`Fidelity`].
 
 use crate::curve::CubicBez;
-use crate::export::svg::drawing_pieces;
 use crate::fit::FittedContour;
 use crate::geom::{distance_to_closed_polyline, floor_i64, segment_distance, Point};
 use crate::raster::Bitmap;
@@ -161,7 +160,7 @@ fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
             if c.segments.is_empty() {
                 return Vec::new();
             }
-            let pieces = drawing_pieces(c, bound);
+            let pieces = c.drawing_pieces(bound);
             // Step counts once, so that the polyline is allocated at its exact size.
             let steps: Vec<usize> = pieces
                 .iter()

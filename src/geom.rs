@@ -208,6 +208,17 @@ pub fn angle_between(a: Point, b: Point) -> f64 {
     a.cross(b).abs().atan2(a.dot(b))
 }
 
+/// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
+pub fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Point>) {
+    out.clear();
+    if b > a {
+        out.extend_from_slice(&points[a..=b]);
+    } else {
+        out.extend_from_slice(&points[a..]);
+        out.extend_from_slice(&points[..=b]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -149,6 +149,34 @@ impl Default for Config {
 }
 
 impl Config {
+    /// The options of the `lsq` fit.
+    pub fn lsq_options(&self) -> fit::lsq::LsqOptions {
+        fit::lsq::LsqOptions::for_tolerance(self.tolerance, self.timings)
+    }
+
+    /// The options of a metaheuristic refit (`optimizer` other than `lsq`).
+    pub fn meta_options(&self) -> fit::meta::MetaOptions {
+        fit::meta::MetaOptions {
+            optimizer: self.optimizer.clone(),
+            search: self.search,
+            budget: self.budget,
+            seed: self.seed,
+            timings: self.timings,
+            box_scale: self.search_box_scale,
+            history: self.history,
+        }
+    }
+
+    /// The options of the break placement (`breaks` = optimize).
+    pub fn placement_options(&self) -> fit::break_placement::PlacementOptions {
+        fit::break_placement::PlacementOptions {
+            optimizer: self.break_optimizer.clone(),
+            budget: self.break_budget,
+            seed: self.seed,
+            lsq: self.lsq_options(),
+        }
+    }
+
     /// Checks every value against its domain.
     pub fn validate(&self) -> Result<()> {
         let bad = |name, message: &str| {
@@ -175,12 +203,12 @@ impl Config {
         }
         if self.optimizer != "lsq" {
             // One owner of the unknown-optimizer message.
-            fit::meta::MetaOptions::new(self).build_optimizer()?;
+            self.meta_options().build_optimizer()?;
         }
         if self.budget == 0 {
             return bad("--budget", "must be at least 1");
         }
-        fit::break_placement::PlacementOptions::new(self).build_optimizer()?;
+        self.placement_options().build_optimizer()?;
         if self.break_budget == 0 {
             return bad("--break-budget", "must be at least 1");
         }
@@ -334,10 +362,9 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         return Err(nothing_traced(bitmap, config.min_area));
     }
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
-    let lsq_options = fit::lsq::LsqOptions::new(config);
-    let placement_options = (config.breaks == Breaks::Optimize)
-        .then(|| fit::break_placement::PlacementOptions::new(config));
-    let meta_options = (config.optimizer != "lsq").then(|| fit::meta::MetaOptions::new(config));
+    let lsq_options = config.lsq_options();
+    let placement_options = (config.breaks == Breaks::Optimize).then(|| config.placement_options());
+    let meta_options = (config.optimizer != "lsq").then(|| config.meta_options());
     let merge_options = config.merge.then_some(merge::outline::OutlineMergeOptions {
         degree: config.merge_degree,
         tolerance: config.tolerance,
@@ -354,7 +381,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         }
         let mut fitted = match &meta_options {
             None => chain,
-            Some(opts) => fit::meta::fit_contour(&chain, opts, i)?,
+            Some(opts) => fit::refit::fit_contour(&chain, opts, i)?,
         };
         if let Some(opts) = &merge_options {
             fitted.merged = merge::outline::merge_contour(&fitted, opts);

@@ -4,7 +4,8 @@
 mod common;
 
 use outlinefit::export::svg::{to_svg, SvgOptions};
-use outlinefit::fit::meta::{fit_contour, reference_errors, MetaOptions};
+use outlinefit::fit::meta::{reference_errors, MetaOptions};
+use outlinefit::fit::refit::fit_contour;
 use outlinefit::{trace_file, Breaks, Config, JointKind, Search};
 
 /// Every smooth joint is G1 to 1e-9 with a finite positive β, and the chain is closed: each
@@ -111,7 +112,7 @@ fn hs_weights_search_reaches_the_least_squares_optimum_on_every_segment() {
     let opts = MetaOptions {
         optimizer: "hs".into(),
         search: Search::Weights,
-        ..MetaOptions::new(&config)
+        ..config.meta_options()
     };
     assert_eq!(opts.budget, 5000);
     let mut checked = 0;

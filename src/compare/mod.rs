@@ -13,7 +13,8 @@
 pub mod output;
 
 use crate::error::{Error, Result};
-use crate::fit::meta::{fit_contour, reference_errors, MetaOptions, Search};
+use crate::fit::meta::{reference_errors, MetaOptions, Search};
+use crate::fit::refit::fit_contour;
 use crate::stats::{self, Anova, Describe, FTest, Normality, TTest};
 use crate::{trace_file, Config};
 use rayon::prelude::*;

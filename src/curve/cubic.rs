@@ -149,6 +149,21 @@ const CORRECTION_ROUNDS: usize = 2;
 /// Most rounds of the minimax (Lawson) polish on the tangent distance.
 const POLISH_ROUNDS: usize = 16;
 
+/// The approximation bound used when no fitting tolerance chooses one (px).
+pub const DEFAULT_DRAWING_BOUND: f64 = 0.02;
+
+/// The approximation bound matched to a fitting tolerance: the drawing may add at most a
+/// twentieth of it, `tolerance / 20` clamped to [0.005, 0.05] px (the default tolerance
+/// 0.3 gives 0.015). A non-positive or non-finite tolerance gives
+/// [`DEFAULT_DRAWING_BOUND`].
+pub fn drawing_bound(tolerance: f64) -> f64 {
+    if tolerance.is_finite() && tolerance > 0.0 {
+        (tolerance / 20.0).clamp(0.005, 0.05)
+    } else {
+        DEFAULT_DRAWING_BOUND
+    }
+}
+
 /// Approximates a rational cubic by polynomial cubics within `bound` pixels.
 ///
 /// Guarantees: the pieces form one continuous chain from `curve.points[0]` to

@@ -25,6 +25,7 @@
 //! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
 //! would be filled). Contours without segments have nothing to draw and are skipped.
 
+use crate::curve::cubic::{drawing_bound, DEFAULT_DRAWING_BOUND};
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::Point;
@@ -59,20 +60,16 @@ impl Default for SvgOptions {
 }
 
 /// The default approximation bound, in pixels.
-const DEFAULT_BOUND: f64 = 0.02;
+const DEFAULT_BOUND: f64 = DEFAULT_DRAWING_BOUND;
 
 impl SvgOptions {
-    /// Options matched to a fitting tolerance: the approximation may add at most a
-    /// twentieth of it, `bound = tolerance / 20` clamped to [0.005, 0.05] px (the default
-    /// tolerance 0.3 gives 0.015), and coordinates get the fewest decimals whose rounding
-    /// stays within half the bound (2 for tolerances from 0.2 px, 3 below). A non-positive
-    /// or non-finite tolerance gives the defaults.
+    /// Options matched to a fitting tolerance: the approximation bound of
+    /// [`drawing_bound`] (a twentieth of the tolerance, clamped to [0.005, 0.05] px), and
+    /// coordinates with the fewest decimals whose rounding stays within half the bound (2
+    /// for tolerances from 0.2 px, 3 below). A non-positive or non-finite tolerance gives
+    /// the defaults.
     pub fn for_tolerance(tolerance: f64) -> Self {
-        let bound = if tolerance.is_finite() && tolerance > 0.0 {
-            (tolerance / 20.0).clamp(0.005, 0.05)
-        } else {
-            DEFAULT_BOUND
-        };
+        let bound = drawing_bound(tolerance);
         SvgOptions {
             bound,
             precision: precision_for(bound),
@@ -197,7 +194,7 @@ pub(crate) fn contour_path_data(
     if contour.segments.is_empty() {
         return ContourPath::Empty;
     }
-    let pieces = drawing_pieces(contour, bound);
+    let pieces = contour.drawing_pieces(bound);
     let finite = contour
         .segments
         .iter()
@@ -370,42 +367,6 @@ impl PathWriter {
         };
         self.out.push_str(&text);
     }
-}
-
-/// What the SVG draws of a contour, in order: for each segment (or run of segments
-/// replaced by a merged curve, see [`crate::merge::outline`]) its start point and its
-/// polynomial cubics. A merged run that wraps past the end of the segment list makes the
-/// walk start at its first segment.
-pub(crate) fn drawing_pieces(contour: &FittedContour, bound: f64) -> Vec<(Point, Vec<CubicBez>)> {
-    let n = contour.segments.len();
-    let segment = |k: usize| {
-        let s = &contour.segments[k];
-        (s.curve.points[0], s.drawn_cubics(bound).into_owned())
-    };
-    if contour.merged.is_empty() {
-        return (0..n).map(segment).collect();
-    }
-    let start = contour
-        .merged
-        .iter()
-        .find(|m| m.first_segment + m.segment_count > n)
-        .map_or(0, |m| m.first_segment % n);
-    let mut out = Vec::new();
-    let mut walked = 0;
-    while walked < n {
-        let k = (start + walked) % n;
-        match contour.merged.iter().find(|m| m.first_segment == k) {
-            Some(m) if m.segment_count >= 1 => {
-                out.push((contour.segments[k].curve.points[0], m.center_cubics(bound)));
-                walked += m.segment_count;
-            }
-            _ => {
-                out.push(segment(k));
-                walked += 1;
-            }
-        }
-    }
-    out
 }
 
 /// `x y` with [`write_number`].

@@ -52,7 +52,6 @@ use super::{FittedContour, JointKind};
 use crate::error::{Error, Result};
 use crate::geom::Point;
 use crate::optim::{by_name, Optimizer, Problem, SeededRng};
-use crate::Config;
 use rand::SeedableRng;
 use serde::Serialize;
 use std::cell::RefCell;
@@ -131,16 +130,6 @@ pub struct PlacementOptions {
 }
 
 impl PlacementOptions {
-    /// The options a [`Config`] implies.
-    pub fn new(config: &Config) -> Self {
-        PlacementOptions {
-            optimizer: config.break_optimizer.clone(),
-            budget: config.break_budget,
-            seed: config.seed,
-            lsq: LsqOptions::new(config),
-        }
-    }
-
     /// The optimizer, or an error naming the unknown one.
     pub fn build_optimizer(&self) -> Result<Box<dyn Optimizer>> {
         by_name(&self.optimizer).ok_or_else(|| Error::InvalidOption {
@@ -462,6 +451,7 @@ mod tests {
     use super::*;
     use crate::breaks::{find_breaks, BreakOptions};
     use crate::contour::Contour;
+    use crate::Config;
 
     /// A smooth closed blob whose curvature varies, so break positions matter.
     fn blob(n: usize) -> Vec<Point> {
@@ -486,7 +476,7 @@ mod tests {
             break_budget: budget,
             ..Config::default()
         };
-        let opts = PlacementOptions::new(&config);
+        let opts = config.placement_options();
         let seg = find_breaks(&c, &BreakOptions::for_image(50.0, 128, 128));
         (super::super::lsq::fit_contour(&seg, &opts.lsq), opts)
     }

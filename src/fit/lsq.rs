@@ -21,10 +21,9 @@ use super::solve::{
 };
 use super::{DrawnCubics, FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::{arc_lengths, SegmentedContour};
+use crate::curve::cubic::drawing_bound;
 use crate::curve::{approximate_with_cubics, CubicBez};
-use crate::export::svg::SvgOptions;
-use crate::geom::{angle_between, segment_distance, Point};
-use crate::Config;
+use crate::geom::{angle_between, cyclic_run, segment_distance, Point};
 use std::time::Instant;
 
 /// Options of the `lsq` strategy.
@@ -44,10 +43,12 @@ pub struct LsqOptions {
 }
 
 impl LsqOptions {
-    /// The options a [`Config`] implies.
-    pub fn new(config: &Config) -> Self {
+    /// The options of a trace with fitting tolerance `tolerance` (px): the SVG's drawing
+    /// bound matched to it ([`drawing_bound`]), the weight search on a subset of a long
+    /// run's points, no orthogonal-distance polish.
+    pub fn for_tolerance(tolerance: f64, timings: bool) -> Self {
         LsqOptions {
-            tolerance: config.tolerance,
+            tolerance,
             // Parameter correction without the orthogonal-distance polish: the polish
             // lowers Eq. 4 a little but costs most of the time, and the tolerance is met
             // without it.
@@ -57,8 +58,8 @@ impl LsqOptions {
                 ..FitSettings::default()
             },
             tangent_window: 3.0,
-            timings: config.timings,
-            export_bound: SvgOptions::for_tolerance(config.tolerance).bound,
+            timings,
+            export_bound: drawing_bound(tolerance),
         }
     }
 }
@@ -115,17 +116,6 @@ impl Piece {
     /// Number of polynomial cubics the segment becomes in SVG (within `bound`).
     pub(super) fn pieces(&mut self, bound: f64) -> usize {
         self.ensure_cubics(bound).len()
-    }
-}
-
-/// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
-pub fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Point>) {
-    out.clear();
-    if b > a {
-        out.extend_from_slice(&points[a..=b]);
-    } else {
-        out.extend_from_slice(&points[a..]);
-        out.extend_from_slice(&points[..=b]);
     }
 }
 

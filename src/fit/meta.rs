@@ -1,4 +1,6 @@
-//! Refitting a given segmentation with a metaheuristic optimizer (any of [`crate::optim`]).
+//! Refitting a given segmentation with a metaheuristic optimizer (any of [`crate::optim`]):
+//! the options, the per-segment machinery both search spaces share, and the separable one.
+//! [`super::refit::fit_contour`] is the entry point that picks the search space.
 //!
 //! The segmentation, the joint kinds and the fixed centripetal parameters (Eq. 2–3 of the
 //! HS paper) come from the `lsq` fit, so every optimizer is compared on the same pieces
@@ -23,7 +25,6 @@ use crate::error::{Error, Result};
 use crate::geom::Point;
 use crate::optim::{by_name, Optimizer, Outcome, Problem, SeededRng};
 use crate::param::centripetal_parameters;
-use crate::Config;
 use rand::SeedableRng;
 use serde::Serialize;
 use std::time::Instant;
@@ -69,19 +70,6 @@ pub struct MetaOptions {
 }
 
 impl MetaOptions {
-    /// The options a [`Config`] implies.
-    pub fn new(config: &Config) -> Self {
-        MetaOptions {
-            optimizer: config.optimizer.clone(),
-            search: config.search,
-            budget: config.budget,
-            seed: config.seed,
-            timings: config.timings,
-            box_scale: config.search_box_scale,
-            history: config.history,
-        }
-    }
-
     /// The optimizer, or an error naming the unknown one.
     pub fn build_optimizer(&self) -> Result<Box<dyn Optimizer>> {
         by_name(&self.optimizer).ok_or_else(|| Error::InvalidOption {
@@ -93,20 +81,6 @@ impl MetaOptions {
             ),
         })
     }
-}
-
-/// Refits every segment of `base` (segmentation and joint kinds kept) with the optimizer
-/// and search space of `opts`. `contour_index` feeds the per-segment seeds.
-pub fn fit_contour(
-    base: &FittedContour,
-    opts: &MetaOptions,
-    contour_index: usize,
-) -> Result<FittedContour> {
-    let optimizer = opts.build_optimizer()?;
-    Ok(match opts.search {
-        Search::Full => super::paper::fit_contour(base, optimizer.as_ref(), opts, contour_index),
-        Search::Weights => fit_weights(base, optimizer.as_ref(), opts, contour_index),
-    })
 }
 
 /// The end conditions of segment `k` in the separable formulation: at a smooth joint the
@@ -145,7 +119,7 @@ pub fn reference_errors(base: &FittedContour) -> Vec<f64> {
 }
 
 /// `weights` search: every segment independently, control points by least squares.
-fn fit_weights(
+pub(super) fn fit_weights(
     base: &FittedContour,
     optimizer: &dyn Optimizer,
     opts: &MetaOptions,

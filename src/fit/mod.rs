@@ -9,21 +9,13 @@ pub mod break_placement;
 pub mod lsq;
 pub mod meta;
 pub mod paper;
+pub mod refit;
 pub mod solve;
 
-use crate::curve::RationalCubic;
-use crate::geom::Point;
-use serde::{Deserialize, Serialize};
-
-/// How two neighbouring segments meet.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum JointKind {
-    /// Tangent discontinuity (G0 only), found as a corner of the outline.
-    Corner,
-    /// Shared unit tangent (G1).
-    Smooth,
-}
+pub use crate::breaks::JointKind;
+use crate::curve::{CubicBez, RationalCubic};
+use crate::geom::{cyclic_run, Point};
+use serde::Serialize;
 
 /// The meeting point of segment `i − 1` and segment `i` of a contour.
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -156,7 +148,7 @@ impl FittedContour {
     /// The data points of segment `k`, from its start joint to its end joint, into `out`.
     pub fn segment_points_into(&self, k: usize, out: &mut Vec<Point>) {
         let s = &self.segments[k];
-        lsq::cyclic_run(&self.points, s.start, s.end, out);
+        cyclic_run(&self.points, s.start, s.end, out);
     }
 
     /// The data points of segment `k`, from its start joint to its end joint.
@@ -175,5 +167,41 @@ impl FittedContour {
     /// Sum of Eq. 4 errors over all segments.
     pub fn sum_sq(&self) -> f64 {
         self.segments.iter().map(|s| s.error.sum_sq).sum()
+    }
+
+    /// What the SVG draws of the contour, in order: for each segment (or run of segments
+    /// replaced by a merged curve, see [`crate::merge::outline`]) its start point and its
+    /// polynomial cubics. A merged run that wraps past the end of the segment list makes the
+    /// walk start at its first segment.
+    pub(crate) fn drawing_pieces(&self, bound: f64) -> Vec<(Point, Vec<CubicBez>)> {
+        let n = self.segments.len();
+        let segment = |k: usize| {
+            let s = &self.segments[k];
+            (s.curve.points[0], s.drawn_cubics(bound).into_owned())
+        };
+        if self.merged.is_empty() {
+            return (0..n).map(segment).collect();
+        }
+        let start = self
+            .merged
+            .iter()
+            .find(|m| m.first_segment + m.segment_count > n)
+            .map_or(0, |m| m.first_segment % n);
+        let mut out = Vec::new();
+        let mut walked = 0;
+        while walked < n {
+            let k = (start + walked) % n;
+            match self.merged.iter().find(|m| m.first_segment == k) {
+                Some(m) if m.segment_count >= 1 => {
+                    out.push((self.segments[k].curve.points[0], m.center_cubics(bound)));
+                    walked += m.segment_count;
+                }
+                _ => {
+                    out.push(segment(k));
+                    walked += 1;
+                }
+            }
+        }
+        out
     }
 }
