@@ -25,6 +25,7 @@
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::{distance_to_closed_polyline, floor_i64, segment_distance, Point};
+use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::raster::Bitmap;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -153,14 +154,16 @@ struct Edge {
 }
 
 /// The drawn outline of every contour as closed polylines.
-fn flatten(contours: &[FittedContour], bound: f64) -> Vec<Vec<Point>> {
+fn flatten(contours: &[FittedContour], merged: &[Vec<MergedCurve>], bound: f64) -> Vec<Vec<Point>> {
     contours
         .iter()
-        .map(|c| {
+        .enumerate()
+        .map(|(i, c)| {
             if c.segments.is_empty() {
                 return Vec::new();
             }
-            let pieces = c.drawing_pieces(bound);
+            let merged = merged.get(i).map_or(&[][..], Vec::as_slice);
+            let pieces = drawing_pieces(c, merged, bound);
             // Step counts once, so that the polyline is allocated at its exact size.
             let steps: Vec<usize> = pieces
                 .iter()
@@ -369,14 +372,16 @@ fn run_end(col: usize, x: f64, w: usize) -> usize {
 /// number of threads.
 const PARALLEL_POINTS: usize = 20_000;
 
-/// Pixels in `excused` (specks dropped on purpose) never count as far.
+/// `merged[i]` holds the merged curves drawn for `contours[i]` (missing or empty: its
+/// segments). Pixels in `excused` (specks dropped on purpose) never count as far.
 pub(crate) fn check(
     bitmap: &Bitmap,
     contours: &[FittedContour],
+    merged: &[Vec<MergedCurve>],
     limits: Limits,
     excused: &HashSet<u32>,
 ) -> Findings {
-    let polylines = flatten(contours, limits.bound);
+    let polylines = flatten(contours, merged, limits.bound);
     let grid = EdgeGrid::new(&polylines, bitmap.width, bitmap.height);
 
     let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;

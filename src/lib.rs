@@ -48,6 +48,7 @@ pub use crate::fit::{FittedContour, FittedSegment, Joint, JointKind, SegmentErro
 pub use crate::geom::Point;
 pub use crate::raster::{Bitmap, RasterOptions};
 
+use crate::merge::outline::MergedCurve;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -271,6 +272,11 @@ pub struct TraceResult {
     pub image: ImageInfo,
     /// The fitted contours.
     pub contours: Vec<FittedContour>,
+    /// `merged[i]`: the runs of segments of `contours[i]` replaced by disk Wang–Ball curves
+    /// (`--merge`), which the SVG draws instead of those segments (the report keeps both).
+    /// Empty, or shorter than `contours`, where nothing was merged; see
+    /// [`TraceResult::merged_of`].
+    pub merged: Vec<Vec<MergedCurve>>,
     /// The end-to-end check of the drawn outline against the input (all zero and
     /// `held = false` when the check was turned off).
     pub fidelity: Fidelity,
@@ -287,7 +293,16 @@ impl TraceResult {
     /// Number of curves the SVG draws: segments not replaced by merged curves, plus the
     /// merged curves (equal to [`TraceResult::segment_count`] without `--merge`).
     pub fn curve_count(&self) -> usize {
-        self.contours.iter().map(FittedContour::curve_count).sum()
+        self.contours
+            .iter()
+            .enumerate()
+            .map(|(i, c)| merge::outline::curve_count(c, self.merged_of(i)))
+            .sum()
+    }
+
+    /// The merged curves of contour `i` (empty without `--merge`).
+    pub fn merged_of(&self, i: usize) -> &[MergedCurve] {
+        self.merged.get(i).map_or(&[], Vec::as_slice)
     }
 
     /// Sum of Eq. 4 errors over every segment.
@@ -379,16 +394,20 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         if let Some(opts) = &placement_options {
             chain = fit::break_placement::optimize_contour(&chain, opts, i)?;
         }
-        let mut fitted = match &meta_options {
-            None => chain,
-            Some(opts) => fit::refit::fit_contour(&chain, opts, i)?,
-        };
-        if let Some(opts) = &merge_options {
-            fitted.merged = merge::outline::merge_contour(&fitted, opts);
+        match &meta_options {
+            None => Ok(chain),
+            Some(opts) => fit::refit::fit_contour(&chain, opts, i),
         }
-        Ok(fitted)
     };
-    let fit_indexed = |(i, c): (usize, &Contour)| fit_one(find_breaks(c, &break_options), i, false);
+    // Merged curves come beside their contour (a repaired contour is drawn by its own
+    // segments, see `repair`).
+    let fit_indexed = |(i, c): (usize, &Contour)| -> Result<(FittedContour, Vec<MergedCurve>)> {
+        let fitted = fit_one(find_breaks(c, &break_options), i, false)?;
+        let merged = merge_options.as_ref().map_or_else(Vec::new, |opts| {
+            merge::outline::merge_contour(&fitted, opts)
+        });
+        Ok((fitted, merged))
+    };
     // Contours are fitted independently (a metaheuristic's generator is seeded by the
     // contour's index), so on a page of text they are fitted in parallel, on the current
     // rayon pool (`batch`'s, or the global one for a single image); images with little
@@ -397,7 +416,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     // and the first error in contour order, are the same on any number of threads.
     let sizes = extraction.contours.iter().map(|c| c.points.len());
     let (points, largest) = sizes.fold((0, 0), |(sum, max), n| (sum + n, max.max(n)));
-    let results: Vec<Result<FittedContour>> = if points - largest >= PARALLEL_FIT_POINTS {
+    let results: Vec<Result<_>> = if points - largest >= PARALLEL_FIT_POINTS {
         use rayon::prelude::*;
         extraction
             .contours
@@ -413,9 +432,11 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             .map(fit_indexed)
             .collect()
     };
-    let mut fitted = results
+    let (mut fitted, mut merged): (Vec<FittedContour>, Vec<Vec<MergedCurve>>) = results
         .into_iter()
-        .collect::<Result<Vec<FittedContour>>>()?;
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .unzip();
     let fidelity = if config.check {
         let bound = lsq_options.export_bound;
         let limits = fidelity::Limits {
@@ -433,6 +454,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             bitmap,
             &extraction,
             &mut fitted,
+            &mut merged,
             limits,
             config.min_area,
             &break_options,
@@ -459,6 +481,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             frames: bitmap.frame().1,
         },
         contours: fitted,
+        merged,
         fidelity,
         seconds,
     })

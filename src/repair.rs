@@ -17,6 +17,7 @@ use crate::contour::{Extraction, PixelTrace};
 use crate::error::Result;
 use crate::fidelity::{check, polygon_corners, Fidelity, Limits, Repair};
 use crate::fit::{FittedContour, JointKind};
+use crate::merge::outline::MergedCurve;
 use crate::raster::Bitmap;
 use std::collections::{BTreeSet, HashSet};
 
@@ -27,13 +28,17 @@ const MAX_ROUNDS: usize = 6;
 /// lie within half a pixel of it.
 const POLYGON_TOLERANCE: f64 = 0.45;
 
-/// Checks `contours` and repairs them in place; returns the final verdict. `fit` fits one
-/// segmented contour as the trace does (its second argument is the contour's index, its
-/// third whether the fit is a repair, which the trace fits by `lsq` alone).
+/// Checks `contours` (drawn with their `merged` curves, one list per contour) and repairs
+/// them in place; returns the final verdict. `fit` fits one segmented contour as the trace
+/// does (its second argument is the contour's index, its third whether the fit is a
+/// repair, which the trace fits by `lsq` alone); a repaired or restored contour is drawn
+/// by its own segments, without merged curves.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn check_and_repair(
     bitmap: &Bitmap,
     extraction: &Extraction,
     contours: &mut Vec<FittedContour>,
+    merged: &mut Vec<Vec<MergedCurve>>,
     limits: Limits,
     min_area: f64,
     break_options: &BreakOptions,
@@ -45,7 +50,10 @@ pub(crate) fn check_and_repair(
     let mut repaired: HashSet<usize> = HashSet::new();
     let mut restored = 0usize;
     let excused = extraction.dropped_pixels(min_area, bitmap.width);
-    let mut findings = check(bitmap, contours, limits, &excused);
+    // One list of merged curves per contour: a contour refitted here is drawn by its own
+    // segments.
+    merged.resize_with(contours.len(), Vec::new);
+    let mut findings = check(bitmap, contours, merged, limits, &excused);
     for _ in 0..MAX_ROUNDS {
         if findings.held() {
             break;
@@ -99,6 +107,7 @@ pub(crate) fn check_and_repair(
                 corners_tried[i] = false;
             }
             contours[i] = fit(seg, i, true)?;
+            merged[i].clear();
             repaired.insert(i);
             progressed = true;
         }
@@ -138,6 +147,7 @@ pub(crate) fn check_and_repair(
                 };
                 let index = contours.len();
                 contours.push(fit(find_breaks(&c, break_options), index, true)?);
+                merged.push(Vec::new());
                 border_of.push(b);
                 level.push(Repair::PixelSmoothed);
                 corners_tried.push(false);
@@ -148,7 +158,7 @@ pub(crate) fn check_and_repair(
         if !progressed {
             break;
         }
-        findings = check(bitmap, contours, limits, &excused);
+        findings = check(bitmap, contours, merged, limits, &excused);
     }
     Ok(Fidelity {
         held: findings.held(),

@@ -47,7 +47,7 @@ impl Summary {
         let mut s = Summary {
             contours: result.contours.len(),
             segments: result.segment_count(),
-            merged_curves: result.contours.iter().map(|c| c.merged.len()).sum(),
+            merged_curves: result.merged.iter().map(Vec::len).sum(),
             curves: result.curve_count(),
             corner_joints: 0,
             smooth_joints: 0,
@@ -150,7 +150,12 @@ fn xy(p: Point) -> [f64; 2] {
     [p.x, p.y]
 }
 
-fn contour_row<'a>(index: usize, c: &'a FittedContour, with_params: bool) -> ContourRow<'a> {
+fn contour_row<'a>(
+    index: usize,
+    c: &'a FittedContour,
+    merged: &'a [MergedCurve],
+    with_params: bool,
+) -> ContourRow<'a> {
     ContourRow {
         index,
         is_hole: c.is_hole,
@@ -199,7 +204,7 @@ fn contour_row<'a>(index: usize, c: &'a FittedContour, with_params: bool) -> Con
                 beta: j.beta,
             })
             .collect(),
-        merged: &c.merged,
+        merged,
     }
 }
 
@@ -263,7 +268,7 @@ impl Serialize for ContourRows<'_> {
                 .contours
                 .iter()
                 .enumerate()
-                .map(|(i, c)| contour_row(i, c, self.with_params)),
+                .map(|(i, c)| contour_row(i, c, self.result.merged_of(i), self.with_params)),
         )
     }
 }

@@ -13,15 +13,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::{Path, PathBuf};
 
-/// The circles the crate has today, each as its files. The structure is being untied
-/// circle by circle (merged curves beside the fitted contour, shared traits apart from the
-/// registries that name their implementations); until then this list holds what is left,
+/// The circles the crate has today, each as its files: a module's `mod.rs` that names its
+/// children (the optimizer registry, the surface fitter's entry point, the command line's
+/// dispatch) while they import its shared types. The structure is being untied circle by
+/// circle (shared types apart from the code that names the implementations); until then
+/// this list holds what is left,
 /// and the test fails on a circle that is not in it (a new one, or a known one grown by a
 /// file) and on a known circle that is gone or has lost a file (take it off the list).
 const KNOWN: &[&[&str]] = &[
-    // A fitted contour carries its merged curves (`FittedContour::merged`), which the
-    // merge module makes from fitted contours.
-    &["fit/mod.rs", "merge/outline.rs"],
     &[
         "optim/beeso.rs",
         "optim/cs.rs",

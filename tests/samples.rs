@@ -177,9 +177,9 @@ fn merged_outlines_stay_within_tolerance_render_back_and_stay_g1() {
             merged_iou >= plain_iou - 0.002,
             "{name}: IoU {merged_iou} merged, {plain_iou} plain"
         );
-        for c in &r.contours {
+        for (i, c) in r.contours.iter().enumerate() {
             let n = c.segments.len();
-            for m in &c.merged {
+            for m in r.merged_of(i) {
                 assert!(
                     m.segment_count >= 2 && m.max_distance <= config.tolerance,
                     "{name}"
@@ -319,7 +319,7 @@ fn overlay_shades_one_error_band_per_merged_curve() {
         ..Config::default()
     };
     let r = trace_file(&path, &config).unwrap();
-    let merged: usize = r.contours.iter().map(|c| c.merged.len()).sum();
+    let merged: usize = r.merged.iter().map(Vec::len).sum();
     assert!(merged >= 2, "the pear has merged runs");
     let svg = to_overlay_svg(&r, None, &OverlayOptions::default());
     let doc = roxmltree::Document::parse(&svg).unwrap();

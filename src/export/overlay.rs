@@ -188,7 +188,7 @@ pub fn to_overlay_svg(
         out.push_str("</g>\n");
     }
 
-    let has_merged = result.contours.iter().any(|c| !c.merged.is_empty());
+    let has_merged = result.merged.iter().any(|m| !m.is_empty());
     if has_merged {
         let _ = writeln!(
             out,
@@ -196,7 +196,7 @@ pub fn to_overlay_svg(
              stroke=\"{MERGED_COLOUR}\" stroke-width=\"{}\">",
             num(0.5 * unit)
         );
-        for m in result.contours.iter().flat_map(|c| &c.merged) {
+        for m in result.merged.iter().flatten() {
             let env = envelope(&m.curve(), ENVELOPE_SAMPLES);
             let upper: Vec<Point> = env.iter().flatten().map(|e| e.0).collect();
             let lower: Vec<Point> = env.iter().flatten().map(|e| e.1).collect();
@@ -242,7 +242,7 @@ pub fn to_overlay_svg(
         num(1.5 * unit)
     );
     for (i, c) in result.contours.iter().enumerate() {
-        match contour_path_data(c, bound, precision) {
+        match contour_path_data(c, result.merged_of(i), bound, precision) {
             ContourPath::Data(d) => {
                 let _ = writeln!(out, "<path d=\"{d}\"/>");
             }

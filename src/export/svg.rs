@@ -29,6 +29,7 @@ use crate::curve::cubic::{drawing_bound, DEFAULT_DRAWING_BOUND};
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::Point;
+use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::TraceResult;
 use std::fmt::Write as _;
 
@@ -132,7 +133,7 @@ pub fn to_svg(result: &TraceResult, opts: &SvgOptions) -> String {
         }
         let mut data = String::new();
         for k in std::iter::once(i).chain(holes_of[i].iter().copied()) {
-            match contour_path_data(&contours[k], bound, precision) {
+            match contour_path_data(&contours[k], result.merged_of(k), bound, precision) {
                 ContourPath::Data(d) => data.push_str(&d),
                 ContourPath::Empty => {}
                 ContourPath::NonFinite => {
@@ -188,13 +189,14 @@ pub(crate) enum ContourPath {
 /// is written before a minus sign or before a `.` that follows a number with a `.`.
 pub(crate) fn contour_path_data(
     contour: &FittedContour,
+    merged: &[MergedCurve],
     bound: f64,
     precision: usize,
 ) -> ContourPath {
     if contour.segments.is_empty() {
         return ContourPath::Empty;
     }
-    let pieces = contour.drawing_pieces(bound);
+    let pieces = drawing_pieces(contour, merged, bound);
     let finite = contour
         .segments
         .iter()
@@ -492,12 +494,12 @@ pub(crate) mod tests {
             parent,
             segments,
             joints,
-            merged: Vec::new(),
         }
     }
 
     pub(crate) fn result(width: u32, height: u32, contours: Vec<FittedContour>) -> TraceResult {
         TraceResult {
+            merged: Vec::new(),
             image: ImageInfo {
                 width,
                 height,

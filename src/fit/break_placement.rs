@@ -322,7 +322,7 @@ pub fn optimize_contour(
     let points = &base.points;
     let n = points.len();
     let m = base.joints.len();
-    if n < 3 || m < 2 || base.segments.len() != m || !base.merged.is_empty() {
+    if n < 3 || m < 2 || base.segments.len() != m {
         return Ok(base.clone());
     }
     let kinds: Vec<JointKind> = base.joints.iter().map(|j| j.kind).collect();

@@ -277,7 +277,6 @@ pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
             parent: seg.parent,
             segments: Vec::new(),
             joints: Vec::new(),
-            merged: Vec::new(),
         };
     }
     let corners: Vec<usize> = (0..joints.len())
@@ -535,7 +534,6 @@ pub(super) fn assemble(
         parent,
         segments,
         joints: joints_out,
-        merged: Vec::new(),
     }
 }
 

@@ -214,7 +214,6 @@ pub(super) fn rebuild(base: &FittedContour, segments: Vec<FittedSegment>) -> Fit
         parent: base.parent,
         segments,
         joints,
-        merged: Vec::new(),
     }
 }
 

@@ -13,7 +13,7 @@ pub mod refit;
 pub mod solve;
 
 pub use crate::breaks::JointKind;
-use crate::curve::{CubicBez, RationalCubic};
+use crate::curve::RationalCubic;
 use crate::geom::{cyclic_run, Point};
 use serde::Serialize;
 
@@ -130,10 +130,6 @@ pub struct FittedContour {
     pub segments: Vec<FittedSegment>,
     /// `joints[i]` is where `segments[i − 1]` ends and `segments[i]` starts.
     pub joints: Vec<Joint>,
-    /// Runs of segments replaced by disk Wang–Ball curves (`--merge`); empty otherwise. The
-    /// segments stay in `segments` (the report keeps them); the SVG draws these instead.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub merged: Vec<crate::merge::outline::MergedCurve>,
 }
 
 impl FittedContour {
@@ -158,50 +154,8 @@ impl FittedContour {
         out
     }
 
-    /// Number of curves drawn: segments not replaced by merged curves, plus merged curves.
-    pub fn curve_count(&self) -> usize {
-        let replaced: usize = self.merged.iter().map(|m| m.segment_count).sum();
-        self.segments.len() - replaced.min(self.segments.len()) + self.merged.len()
-    }
-
     /// Sum of Eq. 4 errors over all segments.
     pub fn sum_sq(&self) -> f64 {
         self.segments.iter().map(|s| s.error.sum_sq).sum()
-    }
-
-    /// What the SVG draws of the contour, in order: for each segment (or run of segments
-    /// replaced by a merged curve, see [`crate::merge::outline`]) its start point and its
-    /// polynomial cubics. A merged run that wraps past the end of the segment list makes the
-    /// walk start at its first segment.
-    pub(crate) fn drawing_pieces(&self, bound: f64) -> Vec<(Point, Vec<CubicBez>)> {
-        let n = self.segments.len();
-        let segment = |k: usize| {
-            let s = &self.segments[k];
-            (s.curve.points[0], s.drawn_cubics(bound).into_owned())
-        };
-        if self.merged.is_empty() {
-            return (0..n).map(segment).collect();
-        }
-        let start = self
-            .merged
-            .iter()
-            .find(|m| m.first_segment + m.segment_count > n)
-            .map_or(0, |m| m.first_segment % n);
-        let mut out = Vec::new();
-        let mut walked = 0;
-        while walked < n {
-            let k = (start + walked) % n;
-            match self.merged.iter().find(|m| m.first_segment == k) {
-                Some(m) if m.segment_count >= 1 => {
-                    out.push((self.segments[k].curve.points[0], m.center_cubics(bound)));
-                    walked += m.segment_count;
-                }
-                _ => {
-                    out.push(segment(k));
-                    walked += 1;
-                }
-            }
-        }
-        out
     }
 }

@@ -121,6 +121,52 @@ impl MergedCurve {
     }
 }
 
+/// What the SVG draws of `contour` with its `merged` curves, in order: for each segment
+/// (or run of segments replaced by a merged curve) its start point and its polynomial
+/// cubics. A merged run that wraps past the end of the segment list makes the walk start
+/// at its first segment.
+pub(crate) fn drawing_pieces(
+    contour: &FittedContour,
+    merged: &[MergedCurve],
+    bound: f64,
+) -> Vec<(Point, Vec<CubicBez>)> {
+    let n = contour.segments.len();
+    let segment = |k: usize| {
+        let s = &contour.segments[k];
+        (s.curve.points[0], s.drawn_cubics(bound).into_owned())
+    };
+    if merged.is_empty() {
+        return (0..n).map(segment).collect();
+    }
+    let start = merged
+        .iter()
+        .find(|m| m.first_segment + m.segment_count > n)
+        .map_or(0, |m| m.first_segment % n);
+    let mut out = Vec::new();
+    let mut walked = 0;
+    while walked < n {
+        let k = (start + walked) % n;
+        match merged.iter().find(|m| m.first_segment == k) {
+            Some(m) if m.segment_count >= 1 => {
+                out.push((contour.segments[k].curve.points[0], m.center_cubics(bound)));
+                walked += m.segment_count;
+            }
+            _ => {
+                out.push(segment(k));
+                walked += 1;
+            }
+        }
+    }
+    out
+}
+
+/// Number of curves drawn for `contour` with its `merged` curves: segments not replaced
+/// by merged curves, plus the merged curves.
+pub fn curve_count(contour: &FittedContour, merged: &[MergedCurve]) -> usize {
+    let replaced: usize = merged.iter().map(|m| m.segment_count).sum();
+    contour.segments.len() - replaced.min(contour.segments.len()) + merged.len()
+}
+
 /// The merged curves of one contour, in walking order (the first may wrap past the end of
 /// the segment list). Contours with fewer than three segments are left alone, and so is
 /// every contour when the degree is outside `MIN_OUTLINE_DEGREE..=MAX_DEGREE` or the
