@@ -1,7 +1,8 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
+use super::args::FitArgs;
+use super::messages::{fidelity_problem, trace_warnings};
 use super::output::resolve_output;
-use super::{fidelity_problem, trace_warnings, FitArgs};
 use anyhow::{bail, Context};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};

@@ -1,7 +1,7 @@
 //! `outlinefit bspline`: a parametric curve given by two expressions in u, converted into a
 //! B-spline by the hybrid fireworks algorithm; JSON on stdout, optional SVG picture.
 
-use super::whole;
+use super::args::whole;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use outlinefit::bspline::{convert, svg, ConvertOptions, FitTarget, ParametricCurve};

@@ -1,7 +1,6 @@
 //! `outlinefit compare`: optimizers side by side on the same segmentation, with statistics.
 
-use super::whole;
-use super::{SearchArg, ShapeArgs};
+use super::args::{whole, SearchArg, ShapeArgs};
 use anyhow::{bail, Context};
 use clap::builder::PossibleValuesParser;
 use clap::Args;

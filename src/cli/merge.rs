@@ -1,6 +1,6 @@
 //! `outlinefit merge`: two adjacent disk Wang–Ball curves into one.
 
-use super::whole;
+use super::args::whole;
 use anyhow::Context;
 use clap::builder::PossibleValuesParser;
 use clap::Args;

@@ -1,6 +1,6 @@
 //! `outlinefit reduce`: degree reduction of an (SG-)Bézier curve, printed as JSON.
 
-use super::whole;
+use super::args::whole;
 use anyhow::Context;
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};

@@ -1,8 +1,8 @@
 //! `outlinefit surface`: a Bézier surface fitted to a cloud of 3-D points (the surface
 //! paper), one of its example clouds, or the rerun of its experiment.
 
+use super::args::whole;
 use super::output::{check_distinct, is_dash, resolve_output, write_output};
-use super::whole;
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};

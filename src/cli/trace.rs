@@ -1,7 +1,10 @@
 //! `outlinefit trace`: one image in, an SVG and optional reports out.
 
-use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_output};
-use super::{default_svg_path, fidelity_problem, trace_warnings, FitArgs};
+use super::args::FitArgs;
+use super::messages::{fidelity_problem, trace_warnings};
+use super::output::{
+    check_distinct, default_svg_path, is_dash, not_regular, resolve_output, write_output,
+};
 use anyhow::{bail, Context};
 use clap::Args;
 use outlinefit::export::overlay::{to_overlay_svg, OverlayOptions};

@@ -57,8 +57,10 @@
 //! Written by hand: no maintained crate implements BEESO over a caller-seeded generator
 //! with an exact evaluation budget.
 
+use super::problem::{
+    clamp_to, random_point, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker,
+};
 use super::so::{random_sign, Phase, SnakeOptimizer, Swarm};
-use super::{clamp_to, random_point, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker};
 use rand::RngExt;
 
 /// BEESO parameters.

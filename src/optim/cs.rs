@@ -36,8 +36,10 @@
 //! Written by hand: no maintained crate implements cuckoo search over a caller-seeded
 //! generator with an exact evaluation budget.
 
-use super::{clamp_to, random_point, standard_normal, Optimizer, Outcome, Problem, SeededRng};
-use super::{uniform, Tracker};
+use super::problem::{
+    clamp_to, random_point, standard_normal, Optimizer, Outcome, Problem, SeededRng,
+};
+use super::problem::{uniform, Tracker};
 use rand::RngExt;
 
 /// Cuckoo search parameters; the plain algorithm (`cs`) by default, ICS (`ics`) from

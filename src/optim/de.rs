@@ -26,7 +26,7 @@
 //! Written by hand: no maintained crate implements it over a caller-seeded generator with
 //! an exact evaluation budget. All buffers are allocated before the main loop.
 
-use super::{random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Differential evolution (DE/rand/1/bin) parameters.

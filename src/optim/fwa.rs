@@ -43,8 +43,8 @@
 //! Written by hand: no maintained crate implements the fireworks algorithm over a
 //! caller-seeded generator with an exact evaluation budget.
 
-use super::{random_point, standard_normal, uniform, Optimizer, Outcome, Problem};
-use super::{SeededRng, Tracker};
+use super::problem::{random_point, standard_normal, uniform, Optimizer, Outcome, Problem};
+use super::problem::{SeededRng, Tracker};
 use rand::RngExt;
 
 /// Fireworks algorithm parameters.

@@ -26,7 +26,7 @@
 //! Written by hand: no maintained crate implements it over a caller-seeded generator with
 //! an exact evaluation budget. All buffers are allocated before the main loop.
 
-use super::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Real-coded genetic algorithm parameters.

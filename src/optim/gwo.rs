@@ -29,7 +29,7 @@
 //! Written by hand: no maintained crate implements GWO over a caller-seeded generator with
 //! an exact evaluation budget.
 
-use super::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Grey wolf optimizer parameters.

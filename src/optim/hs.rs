@@ -11,7 +11,7 @@
 //! bounds. The new harmony replaces the worst one in memory if it is better. The budget
 //! counts objective evaluations, the HMS initial harmonies included.
 
-use super::{random_point, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{random_point, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Harmony search parameters.

@@ -59,7 +59,7 @@
 //! Written by hand: no maintained crate implements SO over a caller-seeded generator with
 //! an exact evaluation budget. BEESO (`beeso.rs`) reuses the phases defined here.
 
-use super::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
 use rand::RngExt;
 use std::ops::Range;
 

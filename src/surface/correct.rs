@@ -18,8 +18,8 @@
 //! squares, Golub–Pereyra) follows and converges quadratically on exact data.
 
 use super::bezier::{axpy, bernstein, bernstein_jet, dot, sub, BezierSurface, P3};
+use super::data::{Params, PointCloud};
 use super::solve::Fitter;
-use super::{Params, PointCloud};
 use nalgebra::{DMatrix, DVector};
 
 /// Most alternation rounds.

@@ -29,6 +29,7 @@
 
 pub mod bezier;
 mod correct;
+mod data;
 pub mod examples;
 pub mod experiment;
 pub mod obj;
@@ -38,6 +39,7 @@ pub mod points;
 mod solve;
 
 pub use bezier::{BezierSurface, P3};
+pub use data::{Params, PointCloud};
 pub use params::{classical, Rule};
 
 use crate::optim::{CuckooSearch, Optimizer, Problem, SeededRng};
@@ -46,25 +48,6 @@ use rand::SeedableRng;
 use serde::Serialize;
 use solve::Fitter;
 use std::time::Instant;
-
-/// A cloud of 3-D points to fit.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PointCloud {
-    /// The points; for a grid, row by row (`points[p * n + q]` is row p, column q).
-    pub points: Vec<P3>,
-    /// `Some((m, n))` when the points form an organized grid of m rows and n columns.
-    pub grid: Option<(usize, usize)>,
-}
-
-/// Data parameters: for a grid one τ per row and one ζ per column; for unorganized points
-/// one (τ_k, ζ_k) per point.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Params {
-    /// τ: per row (grid) or per point.
-    pub tau: Vec<f64>,
-    /// ζ: per column (grid) or per point.
-    pub zeta: Vec<f64>,
-}
 
 /// How the data parameters are chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

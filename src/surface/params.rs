@@ -16,7 +16,7 @@
 //! that folds over its principal plane, as Example III does.
 
 use super::bezier::{sub, P3};
-use super::{Params, PointCloud};
+use super::data::{Params, PointCloud};
 
 /// How consecutive gaps become parameter steps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

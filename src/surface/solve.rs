@@ -15,7 +15,7 @@
 //! the Moore–Penrose pseudo-inverse by SVD, as in the paper (§5.3).
 
 use super::bezier::{axpy, bernstein, sub, BezierSurface, P3};
-use super::{Params, PointCloud};
+use super::data::{Params, PointCloud};
 use nalgebra::{Cholesky, DMatrix, DMatrixView, Dyn};
 
 /// Smallest ratio of the smallest to the largest squared Cholesky pivot accepted before
