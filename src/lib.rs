@@ -44,7 +44,7 @@ pub use crate::error::{Error, Result};
 pub use crate::fidelity::Fidelity;
 pub use crate::fit::break_placement::Breaks;
 pub use crate::fit::meta::Search;
-pub use crate::fit::{FittedContour, FittedSegment, Joint, JointKind, SegmentError};
+pub use crate::fit::{FittedContour, FittedSegment, Joint, JointKind, Method, SegmentError};
 pub use crate::geom::Point;
 pub use crate::raster::{Bitmap, RasterOptions};
 
@@ -82,10 +82,11 @@ pub struct Config {
     /// Largest allowed distance (px) from a data point to its fitted curve, for `lsq`.
     /// Default: 0.3.
     pub tolerance: f64,
-    /// How segments are fitted: `lsq` (separable least squares with error-driven splitting,
-    /// the default) or the name of a metaheuristic of [`optim::NAMES`], which refits the
-    /// `lsq` segmentation at fixed centripetal parameters.
-    pub optimizer: String,
+    /// How segments are fitted: [`Method::Lsq`] (separable least squares with
+    /// error-driven splitting, the default) or a metaheuristic, which refits the `lsq`
+    /// segmentation at fixed centripetal parameters. Reports name it `lsq` or the
+    /// algorithm's name.
+    pub optimizer: Method,
     /// What a metaheuristic searches: `weights` (default; control points by least squares)
     /// or `full` (the HS paper's C1, C2, w1, w2).
     pub search: Search,
@@ -110,9 +111,9 @@ pub struct Config {
     /// corners and the segment count of the `lsq` chain and moves its smooth joints to
     /// lower the total Eq. 4 error ([`fit::break_placement`]).
     pub breaks: Breaks,
-    /// The metaheuristic (one of [`optim::NAMES`]) that places break points with
-    /// `breaks = optimize`. Default: `fwa`, as in the fireworks paper.
-    pub break_optimizer: String,
+    /// The metaheuristic that places break points with `breaks = optimize`. Default:
+    /// [`optim::Algorithm::Fwa`] (fireworks), as in the paper.
+    pub break_optimizer: optim::Algorithm,
     /// Objective evaluations per movable smooth joint for `breaks = optimize`. Default:
     /// [`fit::break_placement::DEFAULT_BUDGET`].
     pub break_budget: u64,
@@ -123,55 +124,59 @@ pub struct Config {
 
 impl Default for Config {
     fn default() -> Self {
-        Config {
-            threshold: None,
-            alpha: raster::AlphaRule::Auto,
-            frame: 0,
-            invert: false,
-            max_pixels: 50_000_000,
-            min_area: 2.0,
-            corner_angle: 50.0,
-            tolerance: 0.3,
-            optimizer: "lsq".to_string(),
-            search: Search::Weights,
-            budget: 5000,
-            search_box_scale: 1.0,
-            history: false,
-            seed: 1,
-            timings: true,
-            merge: false,
-            merge_degree: 5,
-            breaks: Breaks::Curvature,
-            break_optimizer: fit::break_placement::DEFAULT_OPTIMIZER.to_string(),
-            break_budget: fit::break_placement::DEFAULT_BUDGET,
-            check: true,
-        }
+        Config::DEFAULT
     }
 }
 
 impl Config {
+    /// The documented defaults, in one place: `Config::default()` and the command line's
+    /// defaults are these values.
+    pub const DEFAULT: Config = Config {
+        threshold: None,
+        alpha: raster::AlphaRule::Auto,
+        frame: 0,
+        invert: false,
+        max_pixels: 50_000_000,
+        min_area: 2.0,
+        corner_angle: 50.0,
+        tolerance: 0.3,
+        optimizer: Method::Lsq,
+        search: Search::Weights,
+        budget: 5000,
+        search_box_scale: 1.0,
+        history: false,
+        seed: 1,
+        timings: true,
+        merge: false,
+        merge_degree: 5,
+        breaks: Breaks::Curvature,
+        break_optimizer: fit::break_placement::DEFAULT_OPTIMIZER,
+        break_budget: fit::break_placement::DEFAULT_BUDGET,
+        check: true,
+    };
+
     /// The options of the `lsq` fit.
     pub fn lsq_options(&self) -> fit::lsq::LsqOptions {
         fit::lsq::LsqOptions::for_tolerance(self.tolerance, self.timings)
     }
 
-    /// The options of a metaheuristic refit (`optimizer` other than `lsq`).
-    pub fn meta_options(&self) -> fit::meta::MetaOptions {
-        fit::meta::MetaOptions {
-            optimizer: self.optimizer.clone(),
+    /// The options of a metaheuristic refit, or `None` when the method is `lsq`.
+    pub fn meta_options(&self) -> Option<fit::meta::MetaOptions> {
+        Some(fit::meta::MetaOptions {
+            optimizer: self.optimizer.algorithm()?,
             search: self.search,
             budget: self.budget,
             seed: self.seed,
             timings: self.timings,
             box_scale: self.search_box_scale,
             history: self.history,
-        }
+        })
     }
 
     /// The options of the break placement (`breaks` = optimize).
     pub fn placement_options(&self) -> fit::break_placement::PlacementOptions {
         fit::break_placement::PlacementOptions {
-            optimizer: self.break_optimizer.clone(),
+            optimizer: self.break_optimizer,
             budget: self.break_budget,
             seed: self.seed,
             lsq: self.lsq_options(),
@@ -202,14 +207,9 @@ impl Config {
         if !(self.search_box_scale.is_finite() && self.search_box_scale >= 1.0) {
             return bad("--search-box-scale", "must be a number ≥ 1");
         }
-        if self.optimizer != "lsq" {
-            // One owner of the unknown-optimizer message.
-            self.meta_options().build_optimizer()?;
-        }
         if self.budget == 0 {
             return bad("--budget", "must be at least 1");
         }
-        self.placement_options().build_optimizer()?;
         if self.break_budget == 0 {
             return bad("--break-budget", "must be at least 1");
         }
@@ -379,7 +379,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
     let lsq_options = config.lsq_options();
     let placement_options = (config.breaks == Breaks::Optimize).then(|| config.placement_options());
-    let meta_options = (config.optimizer != "lsq").then(|| config.meta_options());
+    let meta_options = config.meta_options();
     let merge_options = config.merge.then_some(merge::outline::OutlineMergeOptions {
         degree: config.merge_degree,
         tolerance: config.tolerance,
@@ -396,7 +396,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         }
         match &meta_options {
             None => Ok(chain),
-            Some(opts) => fit::refit::fit_contour(&chain, opts, i),
+            Some(opts) => Ok(fit::refit::fit_contour(&chain, opts, i)),
         }
     };
     // Merged curves come beside their contour (a repaired contour is drawn by its own

@@ -393,7 +393,7 @@ pub fn to_csv(config: &Config, images: &[(&str, &TraceResult)]) -> String {
                     ci.to_string(),
                     c.is_hole.to_string(),
                     k.to_string(),
-                    config.optimizer.clone(),
+                    config.optimizer.name().to_string(),
                     s.point_count.to_string(),
                     s.start.to_string(),
                     s.end.to_string(),

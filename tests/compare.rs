@@ -6,13 +6,14 @@
 mod common;
 
 use outlinefit::compare::{compare_image, statistics, CompareOptions, ImageComparison};
+use outlinefit::optim::Algorithm;
 use outlinefit::{Config, Search};
 use std::path::PathBuf;
 use std::process::Command;
 
 fn options(search: Search) -> CompareOptions {
     CompareOptions {
-        optimizers: vec!["hs".into(), "pso".into(), "de".into()],
+        optimizers: vec![Algorithm::Hs, Algorithm::Pso, Algorithm::De],
         runs: 5,
         budget: 400,
         search,

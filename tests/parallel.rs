@@ -2,8 +2,9 @@
 //! the number of threads, down to the last bit of every number.
 
 use outlinefit::export::svg::{to_svg, SvgOptions};
+use outlinefit::optim::Algorithm;
 use outlinefit::raster::Bitmap;
-use outlinefit::{extract_contours, trace_bitmap, Config, ContourOptions, TraceResult};
+use outlinefit::{extract_contours, trace_bitmap, Config, ContourOptions, Method, TraceResult};
 
 /// A 480 × 360 page of 12 × 9 anti-aliased rings and disks (4 × 4 supersampled), radii
 /// 9 to 15 px: about a hundred contours of similar size.
@@ -63,9 +64,9 @@ fn many_contours_give_the_same_result_on_one_and_three_threads() {
     let sizes: Vec<usize> = contours.iter().map(|c| c.points.len()).collect();
     let beside_largest = sizes.iter().sum::<usize>() - sizes.iter().max().unwrap();
     assert!(contours.len() >= 140 && beside_largest >= 6000, "{sizes:?}");
-    for optimizer in ["lsq", "hs"] {
+    for optimizer in [Method::Lsq, Method::Metaheuristic(Algorithm::Hs)] {
         let config = Config {
-            optimizer: optimizer.to_string(),
+            optimizer,
             budget: 300,
             seed: 9,
             timings: false,

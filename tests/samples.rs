@@ -6,7 +6,8 @@ mod common;
 use outlinefit::export::svg::{to_svg, SvgOptions};
 use outlinefit::fit::meta::{reference_errors, MetaOptions};
 use outlinefit::fit::refit::fit_contour;
-use outlinefit::{trace_file, Breaks, Config, JointKind, Search};
+use outlinefit::optim::Algorithm;
+use outlinefit::{trace_file, Breaks, Config, JointKind, Method, Search};
 
 /// Every smooth joint is G1 to 1e-9 with a finite positive β, and the chain is closed: each
 /// segment ends exactly where the next starts.
@@ -90,7 +91,7 @@ fn hs_outlines_are_g1_at_every_smooth_joint() {
     // The paper's scheme on the same segmentation; its fit is looser (the search box of
     // Eq. 9 can exclude the optimum), so only continuity and a coarse shape check here.
     let config = Config {
-        optimizer: "hs".into(),
+        optimizer: Method::Metaheuristic(Algorithm::Hs),
         search: Search::Full,
         budget: 1000,
         timings: false,
@@ -109,10 +110,13 @@ fn hs_weights_search_reaches_the_least_squares_optimum_on_every_segment() {
         timings: false,
         ..Config::default()
     };
+    let config = Config {
+        optimizer: Method::Metaheuristic(Algorithm::Hs),
+        ..config
+    };
     let opts = MetaOptions {
-        optimizer: "hs".into(),
         search: Search::Weights,
-        ..config.meta_options()
+        ..config.meta_options().expect("a metaheuristic's options")
     };
     assert_eq!(opts.budget, 5000);
     let mut checked = 0;
@@ -122,7 +126,7 @@ fn hs_weights_search_reaches_the_least_squares_optimum_on_every_segment() {
         let base = trace_file(&path, &config).unwrap();
         for (i, c) in base.contours.iter().enumerate() {
             let reference = reference_errors(c);
-            let fitted = fit_contour(c, &opts, i).unwrap();
+            let fitted = fit_contour(c, &opts, i);
             for (k, (s, &best)) in fitted.segments.iter().zip(&reference).enumerate() {
                 let e = s.error.sum_sq;
                 if e > best * 1.001 + 1e-5 {

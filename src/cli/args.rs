@@ -3,6 +3,7 @@
 
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
+use outlinefit::optim::Algorithm;
 use outlinefit::raster::AlphaRule;
 use outlinefit::{Config, Search};
 
@@ -14,6 +15,15 @@ pub(crate) enum SearchArg {
     Full,
     /// Only the weights w1, w2; control points by least squares (separable, exact G1).
     Weights,
+}
+
+impl From<Search> for SearchArg {
+    fn from(s: Search) -> SearchArg {
+        match s {
+            Search::Full => SearchArg::Full,
+            Search::Weights => SearchArg::Weights,
+        }
+    }
 }
 
 impl From<SearchArg> for Search {
@@ -62,7 +72,7 @@ pub(crate) struct ShapeArgs {
     /// fewer segments; 0.4 saves ~10% of segments but misses the 64 px area target.
     #[arg(
         long,
-        default_value_t = 0.3,
+        default_value_t = Config::DEFAULT.tolerance,
         value_name = "PX",
         allow_negative_numbers = true
     )]
@@ -70,7 +80,7 @@ pub(crate) struct ShapeArgs {
     /// Turning angle (degrees) above which a point is a corner (G0 joint).
     #[arg(
         long,
-        default_value_t = 50.0,
+        default_value_t = Config::DEFAULT.corner_angle,
         value_name = "DEG",
         allow_negative_numbers = true
     )]
@@ -78,7 +88,7 @@ pub(crate) struct ShapeArgs {
     /// Drop shapes and holes smaller than this area (px²), like potrace's turdsize.
     #[arg(
         long,
-        default_value_t = 2.0,
+        default_value_t = Config::DEFAULT.min_area,
         value_name = "PX2",
         allow_negative_numbers = true
     )]
@@ -101,10 +111,10 @@ pub(crate) struct ShapeArgs {
     pub(crate) invert: bool,
     /// Which frame of an animated GIF, PNG or WebP, or page of a TIFF file, to trace,
     /// from 0. A file with several gets a note saying which was traced.
-    #[arg(long, default_value_t = 0, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>)]
+    #[arg(long, default_value_t = Config::DEFAULT.frame, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>)]
     pub(crate) frame: u32,
     /// Refuse images with more pixels than this (protects memory).
-    #[arg(long, default_value_t = 50_000_000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.max_pixels, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     pub(crate) max_pixels: u64,
 }
 
@@ -139,20 +149,20 @@ pub(crate) struct FitArgs {
     /// fixed centripetal parameters: hs (harmony search), ga (genetic algorithm), pso
     /// (particle swarm), gwo (grey wolf), cs / ics (cuckoo search, improved), fwa
     /// (fireworks), so / beeso (snake optimizer, enhanced), de (differential evolution).
-    #[arg(long, default_value = "lsq", value_name = "NAME", value_parser = optimizer_names())]
+    #[arg(long, default_value = Config::DEFAULT.optimizer.name(), value_name = "NAME", value_parser = optimizer_names())]
     pub(crate) optimizer: String,
     /// What a metaheuristic searches: `weights` (w1, w2; control points by least squares,
     /// reaches the optimum) or `full` (the HS paper's C1, C2, w1, w2).
-    #[arg(long, value_enum, default_value_t = SearchArg::Weights)]
+    #[arg(long, value_enum, default_value_t = Config::DEFAULT.search.into())]
     pub(crate) search: SearchArg,
     /// Objective evaluations per segment for a metaheuristic.
-    #[arg(long, default_value_t = 5000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     pub(crate) budget: u64,
     /// Widen the `full` search's control-point box by this factor (1 = the paper's box of
     /// Eq. 9, the extent of each segment's data, which can exclude the optimum).
     #[arg(
         long,
-        default_value_t = 1.0,
+        default_value_t = Config::DEFAULT.search_box_scale,
         value_name = "S",
         allow_negative_numbers = true
     )]
@@ -163,7 +173,7 @@ pub(crate) struct FitArgs {
     pub(crate) history: bool,
     /// Seed of every random choice; the same seed gives the same output on any number of
     /// threads.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.seed, allow_negative_numbers = true, value_parser = whole::<u64>)]
     pub(crate) seed: u64,
     /// Write 0 for every time in reports, so reports are byte-identical across runs.
     #[arg(long)]
@@ -175,20 +185,20 @@ pub(crate) struct FitArgs {
     #[arg(long)]
     pub(crate) merge: bool,
     /// Degree of merged curves (3–20).
-    #[arg(long, default_value_t = 5, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = Config::DEFAULT.merge_degree, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     pub(crate) merge_degree: usize,
     /// Where smooth break points go: `curvature` (curvature analysis and error-driven
     /// splitting) or `optimize` (same corners and segment count, smooth joints moved by
     /// --break-optimizer to lower the total error; never worse, typically a few times
     /// slower than curvature).
-    #[arg(long, default_value = "curvature", value_name = "MODE")]
+    #[arg(long, default_value = Config::DEFAULT.breaks.name(), value_name = "MODE")]
     pub(crate) breaks: String,
     /// The metaheuristic that places break points with --breaks optimize (fwa: fireworks,
     /// as in the paper; any name of --optimizer except lsq).
-    #[arg(long, default_value = outlinefit::fit::break_placement::DEFAULT_OPTIMIZER, value_name = "NAME")]
+    #[arg(long, default_value = Config::DEFAULT.break_optimizer.name(), value_name = "NAME")]
     pub(crate) break_optimizer: String,
     /// Objective evaluations per movable smooth joint with --breaks optimize.
-    #[arg(long, default_value_t = outlinefit::fit::break_placement::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.break_budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     pub(crate) break_budget: u64,
     /// Fail (exit 1, no SVG written) when the drawn outline does not match the input after
     /// repair: a data point farther from the drawn path than the tolerance allows, or a
@@ -203,11 +213,11 @@ pub(crate) struct FitArgs {
 }
 
 impl FitArgs {
-    /// The configuration; fails on an unknown `--breaks` mode (the other values are
-    /// checked by [`Config::validate`]).
+    /// The configuration; fails on an unknown `--breaks` mode or `--break-optimizer` (the
+    /// other values are checked by [`Config::validate`]).
     pub(crate) fn config(&self) -> outlinefit::Result<Config> {
         Ok(Config {
-            optimizer: self.optimizer.clone(),
+            optimizer: self.optimizer.parse()?,
             search: self.search.into(),
             budget: self.budget,
             search_box_scale: self.search_box_scale,
@@ -217,7 +227,16 @@ impl FitArgs {
             merge: self.merge,
             merge_degree: self.merge_degree,
             breaks: self.breaks.parse()?,
-            break_optimizer: self.break_optimizer.clone(),
+            break_optimizer: Algorithm::from_name(&self.break_optimizer).ok_or_else(|| {
+                outlinefit::Error::InvalidOption {
+                    name: "--break-optimizer",
+                    message: format!(
+                        "unknown optimizer `{}` (expected one of {})",
+                        self.break_optimizer,
+                        outlinefit::optim::NAMES.join(", ")
+                    ),
+                }
+            })?,
             break_budget: self.break_budget,
             check: !self.no_check,
             ..self.shape.config()

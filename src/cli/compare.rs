@@ -6,6 +6,8 @@ use clap::builder::PossibleValuesParser;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use outlinefit::compare::{compare_image, image_stems, output, statistics, CompareOptions};
+use outlinefit::optim::Algorithm;
+use outlinefit::Config;
 use std::path::PathBuf;
 
 /// Arguments of `compare`.
@@ -27,23 +29,23 @@ pub(crate) struct CompareArgs {
     #[arg(long, default_value_t = 30, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     runs: usize,
     /// Objective evaluations per segment and run, the same for every optimizer.
-    #[arg(long, default_value_t = 5000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Search space: `weights` (w1, w2 with control points by least squares) or `full`
     /// (the HS paper's C1, C2, w1, w2, as in its experiments).
-    #[arg(long, value_enum, default_value_t = SearchArg::Weights)]
+    #[arg(long, value_enum, default_value_t = Config::DEFAULT.search.into())]
     search: SearchArg,
     /// Widen the `full` search's control-point box by this factor (1 = the paper's Eq. 9).
     #[arg(
         long,
-        default_value_t = 1.0,
+        default_value_t = Config::DEFAULT.search_box_scale,
         value_name = "S",
         allow_negative_numbers = true
     )]
     search_box_scale: f64,
     /// Base seed; run r of every optimizer uses the same seed derived from it, so the same
     /// seed gives the same numbers on any number of threads.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.seed, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Points kept per convergence curve (evenly spaced evaluation counts).
     #[arg(long, default_value_t = 200, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
@@ -63,15 +65,16 @@ fn optimizer_list() -> PossibleValuesParser {
 }
 
 pub(crate) fn run(args: &CompareArgs) -> anyhow::Result<i32> {
-    let mut optimizers: Vec<String> = Vec::new();
+    let mut optimizers: Vec<Algorithm> = Vec::new();
     let requested: Vec<&str> = if args.optimizers.is_empty() {
         outlinefit::optim::NAMES.to_vec()
     } else {
         args.optimizers.iter().map(String::as_str).collect()
     };
-    for name in requested {
-        if name != "lsq" && !optimizers.iter().any(|o| o == name) {
-            optimizers.push(name.to_string());
+    // `lsq` (not a metaheuristic) is the reference every comparison has anyway.
+    for a in requested.into_iter().filter_map(Algorithm::from_name) {
+        if !optimizers.contains(&a) {
+            optimizers.push(a);
         }
     }
     let opts = CompareOptions {

@@ -15,6 +15,8 @@ pub mod output;
 use crate::error::{Error, Result};
 use crate::fit::meta::{reference_errors, MetaOptions, Search};
 use crate::fit::refit::fit_contour;
+use crate::fit::Method;
+use crate::optim::Algorithm;
 use crate::stats::{self, Anova, Describe, FTest, Normality, TTest};
 use crate::{trace_file, Config};
 use rayon::prelude::*;
@@ -25,8 +27,8 @@ use std::time::Instant;
 /// What to compare and how.
 #[derive(Clone, Debug, Serialize)]
 pub struct CompareOptions {
-    /// Optimizer names (each one of [`crate::optim::NAMES`]).
-    pub optimizers: Vec<String>,
+    /// The metaheuristics compared, in report order.
+    pub optimizers: Vec<Algorithm>,
     /// Independent runs per optimizer.
     pub runs: usize,
     /// Objective evaluations per segment and run.
@@ -50,17 +52,6 @@ impl CompareOptions {
         let bad = |name, message: String| Err(Error::InvalidOption { name, message });
         if self.optimizers.is_empty() {
             return bad("--optimizers", "name at least one optimizer".into());
-        }
-        for name in &self.optimizers {
-            if crate::optim::by_name(name).is_none() {
-                return bad(
-                    "--optimizers",
-                    format!(
-                        "unknown optimizer `{name}` (expected some of {})",
-                        crate::optim::NAMES.join(", ")
-                    ),
-                );
-            }
         }
         if self.runs == 0 {
             return bad("--runs", "must be at least 1".into());
@@ -262,7 +253,7 @@ pub fn compare_image(
 ) -> Result<ImageComparison> {
     opts.validate()?;
     let trace_config = Config {
-        optimizer: "lsq".into(),
+        optimizer: Method::Lsq,
         ..opts.trace.clone()
     };
     let base = trace_file(path, &trace_config)?;
@@ -281,11 +272,11 @@ pub fn compare_image(
     let tasks: Vec<(usize, usize)> = (0..opts.optimizers.len())
         .flat_map(|o| (0..opts.runs).map(move |r| (o, r)))
         .collect();
-    let results: Vec<Result<RunResult>> = tasks
+    let results: Vec<RunResult> = tasks
         .par_iter()
         .map(|&(o, r)| {
             let meta = MetaOptions {
-                optimizer: opts.optimizers[o].clone(),
+                optimizer: opts.optimizers[o],
                 search: opts.search,
                 budget: opts.budget,
                 seed: run_seed(opts.seed, r),
@@ -303,7 +294,7 @@ pub fn compare_image(
                 history: vec![0.0; history_at.len()],
             };
             for (ci, c) in base.contours.iter().enumerate() {
-                let fitted = fit_contour(c, &meta, ci)?;
+                let fitted = fit_contour(c, &meta, ci);
                 for s in &fitted.segments {
                     run.segments.push(s.error.sum_sq);
                     run.total += s.error.sum_sq;
@@ -321,19 +312,19 @@ pub fn compare_image(
             }
             run.seconds = started.elapsed().as_secs_f64();
             progress();
-            Ok(run)
+            run
         })
         .collect();
     let mut optimizers: Vec<OptimizerRuns> = opts
         .optimizers
         .iter()
         .map(|name| OptimizerRuns {
-            name: name.clone(),
+            name: name.name().to_string(),
             runs: Vec::with_capacity(opts.runs),
         })
         .collect();
     for (&(o, _), result) in tasks.iter().zip(results) {
-        optimizers[o].runs.push(result?);
+        optimizers[o].runs.push(result);
     }
     Ok(ImageComparison {
         path: path.display().to_string(),

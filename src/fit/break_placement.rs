@@ -51,7 +51,7 @@ use super::meta::segment_seed;
 use super::{FittedContour, JointKind};
 use crate::error::{Error, Result};
 use crate::geom::Point;
-use crate::optim::{by_name, Optimizer, Problem, SeededRng};
+use crate::optim::{Algorithm, Problem, SeededRng};
 use rand::SeedableRng;
 use serde::Serialize;
 use std::cell::RefCell;
@@ -97,7 +97,7 @@ impl FromStr for Breaks {
 
 /// The optimizer that places break points unless another is named: fireworks, as in the
 /// paper.
-pub const DEFAULT_OPTIMIZER: &str = "fwa";
+pub const DEFAULT_OPTIMIZER: Algorithm = Algorithm::Fwa;
 
 /// Default objective evaluations per movable smooth joint. On the bundled samples the
 /// fireworks placement removes 18 % of the total error at 20, 27 % at 60, 38 % at 200,
@@ -119,28 +119,14 @@ const SEED_SALT: u64 = 0xB4EA_C5B1_0C4E_D000;
 /// Options of the break placement.
 #[derive(Clone, Debug)]
 pub struct PlacementOptions {
-    /// The optimizer's command-line name (one of [`crate::optim::NAMES`]).
-    pub optimizer: String,
+    /// The metaheuristic.
+    pub optimizer: Algorithm,
     /// Objective evaluations per movable smooth joint of a stretch.
     pub budget: u64,
     /// Base seed of the per-stretch generators.
     pub seed: u64,
     /// How segments are fitted (the `lsq` options of the trace).
     pub lsq: LsqOptions,
-}
-
-impl PlacementOptions {
-    /// The optimizer, or an error naming the unknown one.
-    pub fn build_optimizer(&self) -> Result<Box<dyn Optimizer>> {
-        by_name(&self.optimizer).ok_or_else(|| Error::InvalidOption {
-            name: "--break-optimizer",
-            message: format!(
-                "unknown optimizer `{}` (expected one of {})",
-                self.optimizer,
-                crate::optim::NAMES.join(", ")
-            ),
-        })
-    }
 }
 
 /// Segment fits of one contour, memoised by their end joints.
@@ -318,7 +304,7 @@ pub fn optimize_contour(
     opts: &PlacementOptions,
     contour_index: usize,
 ) -> Result<FittedContour> {
-    let optimizer = opts.build_optimizer()?;
+    let optimizer = opts.optimizer.build();
     let points = &base.points;
     let n = points.len();
     let m = base.joints.len();
@@ -511,7 +497,7 @@ mod tests {
     }
 
     #[test]
-    fn same_seed_same_placement_and_a_bad_name_is_refused() {
+    fn same_seed_same_placement_and_a_bad_mode_is_refused() {
         let (base, opts) = base_and_options(20);
         let a = optimize_contour(&base, &opts, 3).unwrap();
         let b = optimize_contour(&base, &opts, 3).unwrap();
@@ -519,17 +505,6 @@ mod tests {
         let ib: Vec<usize> = b.joints.iter().map(|j| j.index).collect();
         assert_eq!(ia, ib);
         assert_eq!(a.sum_sq(), b.sum_sq());
-        let bad = PlacementOptions {
-            optimizer: "nope".into(),
-            ..opts
-        };
-        assert!(matches!(
-            optimize_contour(&base, &bad, 0),
-            Err(Error::InvalidOption {
-                name: "--break-optimizer",
-                ..
-            })
-        ));
         assert!("sideways".parse::<Breaks>().is_err());
         assert_eq!("optimize".parse::<Breaks>().unwrap(), Breaks::Optimize);
     }

@@ -21,9 +21,8 @@ use super::lsq::joint_report;
 use super::solve::{optimum_at_fixed_params, segment_error, EndCondition, WeightsProblem};
 use super::{FittedContour, FittedSegment, JointKind};
 use crate::curve::RationalCubic;
-use crate::error::{Error, Result};
 use crate::geom::Point;
-use crate::optim::{by_name, Optimizer, Outcome, Problem, SeededRng};
+use crate::optim::{Algorithm, Optimizer, Outcome, Problem, SeededRng};
 use crate::param::centripetal_parameters;
 use rand::SeedableRng;
 use serde::Serialize;
@@ -53,8 +52,8 @@ impl Search {
 /// Options of a metaheuristic refit.
 #[derive(Clone, Debug)]
 pub struct MetaOptions {
-    /// The optimizer's command-line name (one of [`crate::optim::NAMES`]).
-    pub optimizer: String,
+    /// The metaheuristic.
+    pub optimizer: Algorithm,
     /// The search space.
     pub search: Search,
     /// Objective evaluations per segment.
@@ -67,20 +66,6 @@ pub struct MetaOptions {
     pub box_scale: f64,
     /// Keep each segment's best-so-far history.
     pub history: bool,
-}
-
-impl MetaOptions {
-    /// The optimizer, or an error naming the unknown one.
-    pub fn build_optimizer(&self) -> Result<Box<dyn Optimizer>> {
-        by_name(&self.optimizer).ok_or_else(|| Error::InvalidOption {
-            name: "--optimizer",
-            message: format!(
-                "unknown optimizer `{}` (expected lsq or one of {})",
-                self.optimizer,
-                crate::optim::NAMES.join(", ")
-            ),
-        })
-    }
 }
 
 /// The end conditions of segment `k` in the separable formulation: at a smooth joint the

@@ -14,8 +14,72 @@ pub mod solve;
 
 pub use crate::breaks::JointKind;
 use crate::curve::RationalCubic;
+use crate::error::{Error, Result};
 use crate::geom::{cyclic_run, Point};
+use crate::optim::{Algorithm, NAMES};
 use serde::Serialize;
+use std::str::FromStr;
+
+/// How segments are fitted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Separable least squares with error-driven splitting ([`lsq`]; the default).
+    #[default]
+    Lsq,
+    /// The `lsq` segmentation refitted by a metaheuristic at fixed centripetal parameters
+    /// ([`refit::fit_contour`]).
+    Metaheuristic(Algorithm),
+}
+
+impl Method {
+    /// The command-line and report name: `lsq` or the algorithm's name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Method::Lsq => "lsq",
+            Method::Metaheuristic(a) => a.name(),
+        }
+    }
+
+    /// The metaheuristic, unless the method is `lsq`.
+    pub fn algorithm(self) -> Option<Algorithm> {
+        match self {
+            Method::Lsq => None,
+            Method::Metaheuristic(a) => Some(a),
+        }
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+
+    /// `lsq` or a name of [`NAMES`]; an error names the field `optimizer`.
+    fn from_str(s: &str) -> Result<Method> {
+        if s == Method::Lsq.name() {
+            return Ok(Method::Lsq);
+        }
+        Algorithm::from_name(s)
+            .map(Method::Metaheuristic)
+            .ok_or_else(|| Error::InvalidOption {
+                name: "--optimizer",
+                message: format!(
+                    "unknown optimizer `{s}` (expected lsq or one of {})",
+                    NAMES.join(", ")
+                ),
+            })
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl Serialize for Method {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
 
 /// The meeting point of segment `i − 1` and segment `i` of a contour.
 #[derive(Clone, Copy, Debug, Serialize)]

@@ -242,7 +242,7 @@ mod tests {
     fn every_smooth_joint_is_g1_and_runs_are_reproducible() {
         let base = blob();
         let opts = MetaOptions {
-            optimizer: "hs".into(),
+            optimizer: crate::optim::Algorithm::Hs,
             search: crate::fit::meta::Search::Full,
             budget: 3000,
             seed: 5,

@@ -5,7 +5,6 @@
 
 use super::meta::{fit_weights, MetaOptions, Search};
 use super::{paper, FittedContour};
-use crate::error::Result;
 
 /// Refits every segment of `base` (segmentation and joint kinds kept) with the optimizer
 /// and search space of `opts`. `contour_index` feeds the per-segment seeds.
@@ -13,10 +12,10 @@ pub fn fit_contour(
     base: &FittedContour,
     opts: &MetaOptions,
     contour_index: usize,
-) -> Result<FittedContour> {
-    let optimizer = opts.build_optimizer()?;
-    Ok(match opts.search {
+) -> FittedContour {
+    let optimizer = opts.optimizer.build();
+    match opts.search {
         Search::Full => paper::fit_contour(base, optimizer.as_ref(), opts, contour_index),
         Search::Weights => fit_weights(base, optimizer.as_ref(), opts, contour_index),
-    })
+    }
 }

@@ -6,8 +6,8 @@
 //! history. Every random choice comes from the seeded generator passed in, so a run is
 //! reproducible from its seed.
 //!
-//! [`by_name`] builds any of them with the papers' default parameters from its command-line
-//! name ([`NAMES`]). Each algorithm lives in its own file; the module docs of each say where
+//! [`Algorithm`] names each of them and builds it with the papers' default parameters;
+//! [`by_name`] does the same from its command-line name ([`NAMES`]). Each algorithm lives in its own file; the module docs of each say where
 //! its parameters come from. All of them are written by hand: no maintained crate
 //! implements these algorithms over a caller-seeded generator with an exact evaluation
 //! budget.
@@ -41,26 +41,114 @@ pub use problem::{
     Tracker,
 };
 
-/// Command-line names of every optimizer, in the order reports list them.
-pub const NAMES: &[&str] = &[
-    "hs", "ga", "pso", "gwo", "cs", "ics", "fwa", "so", "beeso", "de",
-];
+/// The metaheuristics of the papers, as a closed set: what a caller names instead of a
+/// string. [`Algorithm::name`] is the command-line and report name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Algorithm {
+    /// Harmony search ([`HarmonySearch`]).
+    Hs,
+    /// Genetic algorithm ([`GeneticAlgorithm`]).
+    Ga,
+    /// Particle swarm ([`ParticleSwarm`]).
+    Pso,
+    /// Grey wolf optimizer ([`GreyWolf`]).
+    Gwo,
+    /// Cuckoo search ([`CuckooSearch::default`]).
+    Cs,
+    /// Improved cuckoo search ([`CuckooSearch::improved`]).
+    Ics,
+    /// Fireworks algorithm ([`Fireworks`]).
+    Fwa,
+    /// Snake optimizer ([`SnakeOptimizer`]).
+    So,
+    /// Enhanced snake optimizer ([`Beeso`]).
+    Beeso,
+    /// Differential evolution ([`DifferentialEvolution`]).
+    De,
+}
+
+impl Algorithm {
+    /// Every algorithm, in the order reports list them.
+    pub const ALL: [Algorithm; 10] = [
+        Algorithm::Hs,
+        Algorithm::Ga,
+        Algorithm::Pso,
+        Algorithm::Gwo,
+        Algorithm::Cs,
+        Algorithm::Ics,
+        Algorithm::Fwa,
+        Algorithm::So,
+        Algorithm::Beeso,
+        Algorithm::De,
+    ];
+
+    /// The command-line name, e.g. `hs`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Algorithm::Hs => "hs",
+            Algorithm::Ga => "ga",
+            Algorithm::Pso => "pso",
+            Algorithm::Gwo => "gwo",
+            Algorithm::Cs => "cs",
+            Algorithm::Ics => "ics",
+            Algorithm::Fwa => "fwa",
+            Algorithm::So => "so",
+            Algorithm::Beeso => "beeso",
+            Algorithm::De => "de",
+        }
+    }
+
+    /// The algorithm with command-line name `name`.
+    pub fn from_name(name: &str) -> Option<Algorithm> {
+        Algorithm::ALL.into_iter().find(|a| a.name() == name)
+    }
+
+    /// The optimizer with the papers' default parameters.
+    pub fn build(self) -> Box<dyn Optimizer> {
+        match self {
+            Algorithm::Hs => Box::new(HarmonySearch::default()),
+            Algorithm::Ga => Box::new(GeneticAlgorithm::default()),
+            Algorithm::Pso => Box::new(ParticleSwarm::default()),
+            Algorithm::Gwo => Box::new(GreyWolf::default()),
+            Algorithm::Cs => Box::new(CuckooSearch::default()),
+            Algorithm::Ics => Box::new(CuckooSearch::improved()),
+            Algorithm::Fwa => Box::new(Fireworks::default()),
+            Algorithm::So => Box::new(SnakeOptimizer::default()),
+            Algorithm::Beeso => Box::new(Beeso::default()),
+            Algorithm::De => Box::new(DifferentialEvolution::default()),
+        }
+    }
+}
+
+impl std::fmt::Display for Algorithm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl serde::Serialize for Algorithm {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+/// Command-line names of every optimizer, in the order reports list them
+/// ([`Algorithm::ALL`]'s names).
+pub const NAMES: &[&str] = &ALL_NAMES;
+
+const ALL_NAMES: [&str; Algorithm::ALL.len()] = {
+    let mut names = [""; Algorithm::ALL.len()];
+    let mut i = 0;
+    while i < names.len() {
+        names[i] = Algorithm::ALL[i].name();
+        i += 1;
+    }
+    names
+};
 
 /// The optimizer with command-line name `name`, with its default parameters.
 pub fn by_name(name: &str) -> Option<Box<dyn Optimizer>> {
-    Some(match name {
-        "hs" => Box::new(HarmonySearch::default()),
-        "ga" => Box::new(GeneticAlgorithm::default()),
-        "pso" => Box::new(ParticleSwarm::default()),
-        "gwo" => Box::new(GreyWolf::default()),
-        "cs" => Box::new(CuckooSearch::default()),
-        "ics" => Box::new(CuckooSearch::improved()),
-        "fwa" => Box::new(Fireworks::default()),
-        "so" => Box::new(SnakeOptimizer::default()),
-        "beeso" => Box::new(Beeso::default()),
-        "de" => Box::new(DifferentialEvolution::default()),
-        _ => return None,
-    })
+    Algorithm::from_name(name).map(Algorithm::build)
 }
 
 /// Standard test functions, for checking optimizers before trusting them on curves.
@@ -189,5 +277,21 @@ pub(crate) mod testfns {
         assert_eq!(again.best, o.best, "{} is not deterministic", opt.name());
         assert!(again.history.is_empty());
         o
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Algorithm, NAMES};
+
+    #[test]
+    fn every_algorithm_builds_the_optimizer_of_its_name() {
+        assert_eq!(NAMES.len(), Algorithm::ALL.len());
+        for (a, name) in Algorithm::ALL.into_iter().zip(NAMES) {
+            assert_eq!(a.name(), *name);
+            assert_eq!(a.build().name(), *name, "{a:?}");
+            assert_eq!(Algorithm::from_name(name), Some(a));
+        }
+        assert_eq!(Algorithm::from_name("lsq"), None);
     }
 }
