@@ -382,7 +382,7 @@ pub(crate) fn check(
     excused: &HashSet<u32>,
 ) -> Findings {
     let polylines = flatten(contours, merged, limits.bound);
-    let grid = EdgeGrid::new(&polylines, bitmap.width, bitmap.height);
+    let grid = EdgeGrid::new(&polylines, bitmap.width(), bitmap.height());
 
     let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
 
@@ -425,7 +425,7 @@ pub(crate) fn check(
     let bad_points = per_contour.into_iter().map(|r| r.1).collect();
 
     // 2. Disagreement between the drawn shape and the thresholded input.
-    let (w, h) = (bitmap.width as usize, bitmap.height as usize);
+    let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
     let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); h];
     for e in grid.all_edges() {
         let (a, b) = (e.a, e.b);

@@ -12,6 +12,33 @@
 //! ```
 //!
 //! [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`].
+//!
+//! ## Tracing an image held in memory
+//!
+//! Any image the `image` crate holds becomes a [`Bitmap`] through [`raster::from_image`];
+//! [`export::svg::to_svg`] writes the result:
+//!
+//! ```
+//! use image::{DynamicImage, GrayImage, Luma};
+//! use outlinefit::export::svg::{to_svg, SvgOptions};
+//! use outlinefit::{raster, trace_bitmap, Config};
+//!
+//! // A black disk of radius 20 px on white paper.
+//! let disk = GrayImage::from_fn(64, 64, |x, y| {
+//!     let (dx, dy) = (x as f64 + 0.5 - 32.0, y as f64 + 0.5 - 32.0);
+//!     Luma([if dx.hypot(dy) < 20.0 { 0 } else { 255 }])
+//! });
+//! let config = Config::default();
+//! let bitmap = raster::from_image(&DynamicImage::ImageLuma8(disk), &config.raster_options())?;
+//! let traced = trace_bitmap(&bitmap, &config)?;
+//! let svg = to_svg(&traced, &SvgOptions::for_tolerance(config.tolerance));
+//!
+//! assert_eq!(traced.contours.len(), 1); // one outline, no hole
+//! assert!(traced.max_distance() <= config.tolerance); // every edge point within 0.3 px
+//! assert!(traced.fidelity.held); // nothing lost or invented
+//! assert_eq!(svg.matches("<path").count(), 1);
+//! # Ok::<(), outlinefit::Error>(())
+//! ```
 
 pub mod breaks;
 pub mod bspline;
@@ -376,7 +403,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     if extraction.contours.is_empty() {
         return Err(nothing_traced(bitmap, config.min_area));
     }
-    let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width, bitmap.height);
+    let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width(), bitmap.height());
     let lsq_options = config.lsq_options();
     let placement_options = (config.breaks == Breaks::Optimize).then(|| config.placement_options());
     let meta_options = config.meta_options();
@@ -470,8 +497,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     };
     Ok(TraceResult {
         image: ImageInfo {
-            width: bitmap.width,
-            height: bitmap.height,
+            width: bitmap.width(),
+            height: bitmap.height(),
             threshold: bitmap.threshold_value(),
             threshold_scale: bitmap.threshold_scale(),
             bilevel: bitmap.is_bilevel(),

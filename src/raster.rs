@@ -150,9 +150,9 @@ impl ThresholdScale {
 #[derive(Clone, Debug)]
 pub struct Bitmap {
     /// Width in pixels.
-    pub width: u32,
+    width: u32,
     /// Height in pixels.
-    pub height: u32,
+    height: u32,
     /// Row-major coverage, 1.0 = foreground, 0.0 = background.
     coverage: Levels,
     /// Foreground ⇔ coverage ≥ threshold; in [0, 1].
@@ -245,18 +245,22 @@ impl Bitmap {
         Ok(bitmap)
     }
 
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
     /// A copy of the row-major coverage values, `width × height` of them (4 bytes per
     /// pixel; the bitmap itself stores one or two).
     pub fn to_coverage(&self) -> Vec<f32> {
         let mut out = vec![0.0; self.coverage.len()];
         self.coverage.read(0, &mut out);
         out
-    }
-
-    /// Number of coverage values stored (`width × height` unless the public fields were
-    /// changed).
-    pub(crate) fn stored_pixels(&self) -> usize {
-        self.coverage.len()
     }
 
     /// The coverage of row `row` written to `out` (`width` values; zeros past the end).

@@ -49,7 +49,7 @@ pub(crate) fn check_and_repair(
     let mut border_of = extraction.border_of.clone();
     let mut repaired: HashSet<usize> = HashSet::new();
     let mut restored = 0usize;
-    let excused = extraction.dropped_pixels(min_area, bitmap.width);
+    let excused = extraction.dropped_pixels(min_area, bitmap.width());
     // One list of merged curves per contour: a contour refitted here is drawn by its own
     // segments.
     merged.resize_with(contours.len(), Vec::new);
@@ -120,7 +120,7 @@ pub(crate) fn check_and_repair(
             for (b, border) in extraction.borders.iter().enumerate() {
                 if !kept.contains(&b)
                     && border.pixel_area() >= min_area
-                    && border.touches(&pixels, bitmap.width)
+                    && border.touches(&pixels, bitmap.width())
                 {
                     lost.insert(b);
                 }

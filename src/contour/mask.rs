@@ -210,7 +210,7 @@ pub(super) struct PaddedMask {
 impl PaddedMask {
     /// `None` when the padded size does not fit the cracks' 32-bit coordinates.
     pub(super) fn new(bitmap: &Bitmap) -> Option<PaddedMask> {
-        let (w, h) = (bitmap.width as usize, bitmap.height as usize);
+        let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
         let pw = w + 2;
         // Cracks store their vertices as i32.
         i32::try_from(pw + 1).ok()?;
