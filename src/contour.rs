@@ -418,7 +418,7 @@ fn extract_with(
 ) -> Result<Extraction> {
     if !(opts.min_area.is_finite() && opts.min_area >= 0.0) {
         return Err(Error::InvalidOption {
-            name: "--min-area",
+            name: "min_area",
             message: "must be a non-negative area in px²".to_string(),
         });
     }
@@ -2830,7 +2830,7 @@ mod tests {
             assert!(matches!(
                 extract_contours(&bm, &opts(bad)),
                 Err(Error::InvalidOption {
-                    name: "--min-area",
+                    name: "min_area",
                     ..
                 })
             ));

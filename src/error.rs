@@ -1,6 +1,9 @@
 //! The library's error type. Every failure a user can cause (a missing or undecodable
 //! file, an empty or oversized image, an unwritable output) is a variant here; the binary
 //! prints it as one line.
+//!
+//! An error about an option names the options field (`tolerance`, `max_pixels`), not a
+//! command-line flag: the command line maps fields to its flags.
 
 use std::path::PathBuf;
 
@@ -42,7 +45,7 @@ pub enum Error {
         height: u32,
     },
     /// The image has more pixels than allowed.
-    #[error("the image is {width}×{height} = {pixels} pixels, more than the limit of {limit} (raise --max-pixels)")]
+    #[error("the image is {width}×{height} = {pixels} pixels, more than the limit of {limit} (max_pixels)")]
     TooLarge {
         /// Width in pixels.
         width: u32,
@@ -71,10 +74,10 @@ pub enum Error {
         /// The threshold that was used, as a user reads it (e.g. "luminance below 136.0").
         threshold: String,
         /// What to try.
-        hint: String,
+        hint: ForegroundHint,
     },
     /// Every shape of the image is smaller than the speck size, so none was traced.
-    #[error("no shape found: all {shapes} shapes are smaller than the minimum area of {min_area} px² (lower --min-area to keep them)")]
+    #[error("no shape found: all {shapes} shapes are smaller than the minimum area of {min_area} px² (lower min_area to keep them)")]
     AllBelowMinArea {
         /// Number of foreground shapes (8-connected components at the threshold).
         shapes: usize,
@@ -93,7 +96,8 @@ pub enum Error {
     /// An option has a value outside its domain.
     #[error("invalid option {name}: {message}")]
     InvalidOption {
-        /// The option's name as the user writes it, e.g. `--tolerance`.
+        /// The options field, e.g. `tolerance` of [`crate::Config`] (`omega/lambda/mu`
+        /// when several fields are at fault together).
         name: &'static str,
         /// What is wrong with it.
         message: String,
@@ -115,6 +119,34 @@ pub enum Error {
         /// What went wrong.
         message: String,
     },
+}
+
+/// What to try when an image has no foreground at the threshold used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ForegroundHint {
+    /// The luminance was traced although part of the image is transparent: tracing the
+    /// alpha channel ([`crate::raster::AlphaRule::Alpha`]) may find the shape.
+    TraceAlpha {
+        /// Fraction of the image that is mostly transparent, in (0, 1].
+        transparent: f64,
+    },
+    /// Light shapes on a dark background need `invert`; otherwise another `threshold`.
+    InvertOrThreshold,
+}
+
+impl std::fmt::Display for ForegroundHint {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ForegroundHint::TraceAlpha { transparent } => write!(
+                f,
+                "{:.1} % of the image is transparent: AlphaRule::Alpha traces its alpha channel",
+                100.0 * transparent
+            ),
+            ForegroundHint::InvertOrThreshold => f.write_str(
+                "if the shapes are light on a dark background try invert, otherwise threshold",
+            ),
+        }
+    }
 }
 
 /// Shorthand for results whose error is [`Error`].

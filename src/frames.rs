@@ -192,7 +192,7 @@ fn floats(
 /// `--frame` beyond the last frame.
 pub(crate) fn out_of_range(frame: u32, frames: u32) -> Error {
     Error::InvalidOption {
-        name: "--frame",
+        name: "frame",
         message: format!(
             "{frame} is past the last frame: the file has {frames} frame{} (0 to {})",
             if frames == 1 { "" } else { "s" },

@@ -67,7 +67,7 @@ pub mod surface;
 pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};
 pub use crate::curve::{CubicBez, RationalCubic};
-pub use crate::error::{Error, Result};
+pub use crate::error::{Error, ForegroundHint, Result};
 pub use crate::fidelity::Fidelity;
 pub use crate::fit::break_placement::Breaks;
 pub use crate::fit::meta::Search;
@@ -219,30 +219,30 @@ impl Config {
             })
         };
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return bad("--tolerance", "must be a positive number of pixels");
+            return bad("tolerance", "must be a positive number of pixels");
         }
         if !(self.corner_angle.is_finite() && self.corner_angle > 0.0 && self.corner_angle < 180.0)
         {
-            return bad("--corner-angle", "must be between 0 and 180 degrees");
+            return bad("corner_angle", "must be between 0 and 180 degrees");
         }
         if !(self.min_area.is_finite() && self.min_area >= 0.0) {
-            return bad("--min-area", "must be a non-negative area in px²");
+            return bad("min_area", "must be a non-negative area in px²");
         }
         if self.max_pixels == 0 {
-            return bad("--max-pixels", "must be at least 1");
+            return bad("max_pixels", "must be at least 1");
         }
         if !(self.search_box_scale.is_finite() && self.search_box_scale >= 1.0) {
-            return bad("--search-box-scale", "must be a number ≥ 1");
+            return bad("search_box_scale", "must be a number ≥ 1");
         }
         if self.budget == 0 {
-            return bad("--budget", "must be at least 1");
+            return bad("budget", "must be at least 1");
         }
         if self.break_budget == 0 {
-            return bad("--break-budget", "must be at least 1");
+            return bad("break_budget", "must be at least 1");
         }
         if !(merge::outline::MIN_OUTLINE_DEGREE..=merge::MAX_DEGREE).contains(&self.merge_degree) {
             return Err(Error::InvalidOption {
-                name: "--merge-degree",
+                name: "merge_degree",
                 message: format!(
                     "must be between {} and {}",
                     merge::outline::MIN_OUTLINE_DEGREE,
@@ -359,13 +359,9 @@ fn nothing_traced(bitmap: &Bitmap, min_area: f64) -> Error {
     if mask.pixels().all(|p| p[0] == 0) {
         let transparent = bitmap.transparent_fraction();
         let hint = if !bitmap.from_alpha() && transparent > 0.0 {
-            format!(
-                "{:.1} % of the image is transparent: --alpha traces its alpha channel",
-                100.0 * transparent
-            )
+            ForegroundHint::TraceAlpha { transparent }
         } else {
-            "if the shapes are light on a dark background try --invert, otherwise --threshold"
-                .into()
+            ForegroundHint::InvertOrThreshold
         };
         return Error::NoForeground {
             threshold: bitmap.threshold_scale().describe(bitmap.threshold_value()),
@@ -403,7 +399,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     if extraction.contours.is_empty() {
         return Err(nothing_traced(bitmap, config.min_area));
     }
-    let break_options = BreakOptions::for_image(config.corner_angle, bitmap.width(), bitmap.height());
+    let break_options =
+        BreakOptions::for_image(config.corner_angle, bitmap.width(), bitmap.height());
     let lsq_options = config.lsq_options();
     let placement_options = (config.breaks == Breaks::Optimize).then(|| config.placement_options());
     let meta_options = config.meta_options();

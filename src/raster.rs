@@ -221,7 +221,7 @@ impl Bitmap {
         if let Some(t) = threshold {
             if !(0.0..=1.0).contains(&t) {
                 return Err(Error::InvalidOption {
-                    name: "--threshold",
+                    name: "threshold",
                     message: format!("{t} is outside [0, 1]"),
                 });
             }
@@ -668,7 +668,7 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
         AlphaRule::Alpha if has_alpha => true,
         AlphaRule::Alpha => {
             return Err(Error::InvalidOption {
-                name: "--alpha",
+                name: "alpha",
                 message: "the image has no alpha channel".into(),
             })
         }
@@ -1066,10 +1066,7 @@ mod tests {
         let grey = DynamicImage::ImageLuma8(GrayImage::new(4, 4));
         assert!(matches!(
             from_image(&grey, &forced(AlphaRule::Alpha)),
-            Err(Error::InvalidOption {
-                name: "--alpha",
-                ..
-            })
+            Err(Error::InvalidOption { name: "alpha", .. })
         ));
     }
 

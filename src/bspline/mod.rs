@@ -102,17 +102,17 @@ impl ConvertOptions {
         let bad = |name, message: String| Err(Error::InvalidOption { name, message });
         let (a, b) = self.range;
         if !(a.is_finite() && b.is_finite() && a < b && (b - a).is_finite()) {
-            return bad("--range", format!("needs finite A < B, got {a},{b}"));
+            return bad("range", format!("needs finite A < B, got {a},{b}"));
         }
         if !(2..=basis::MAX_ORDER).contains(&self.order) {
             return bad(
-                "--order",
+                "order",
                 format!("must be between 2 and {}", basis::MAX_ORDER),
             );
         }
         if self.control_points < self.order {
             return bad(
-                "--control-points",
+                "control_points",
                 format!(
                     "must be at least the order ({}), got {}",
                     self.order, self.control_points
@@ -121,13 +121,13 @@ impl ConvertOptions {
         }
         if self.control_points > MAX_CONTROL_POINTS {
             return bad(
-                "--control-points",
+                "control_points",
                 format!("must be at most {MAX_CONTROL_POINTS}"),
             );
         }
         if self.samples < self.control_points {
             return bad(
-                "--samples",
+                "samples",
                 format!(
                     "must be at least the number of control points ({}), got {}",
                     self.control_points, self.samples
@@ -135,11 +135,11 @@ impl ConvertOptions {
             );
         }
         if self.samples > MAX_SAMPLES {
-            return bad("--samples", format!("must be at most {MAX_SAMPLES}"));
+            return bad("samples", format!("must be at most {MAX_SAMPLES}"));
         }
         if self.method != UNIFORM && !optim::NAMES.contains(&self.method.as_str()) {
             return bad(
-                "--method",
+                "method",
                 format!(
                     "unknown method '{}' (known: {UNIFORM}, {})",
                     self.method,
@@ -148,10 +148,10 @@ impl ConvertOptions {
             );
         }
         if self.budget == 0 {
-            return bad("--budget", "must be at least 1".to_string());
+            return bad("budget", "must be at least 1".to_string());
         }
         if !(2..=1_000_000).contains(&self.feature_grid) {
-            return bad("--grid", "must be between 2 and 1000000".to_string());
+            return bad("feature_grid", "must be between 2 and 1000000".to_string());
         }
         Ok(())
     }
@@ -277,7 +277,7 @@ pub fn convert(curve: &ParametricCurve, options: &ConvertOptions) -> Result<Conv
     {
         return Err(Error::InvalidInput {
             what: "the curve".to_string(),
-            message: format!("is not defined (NaN or infinite) at u = {u} in --range {a},{b}"),
+            message: format!("is not defined (NaN or infinite) at u = {u} in the range [{a}, {b}]"),
         });
     }
     let features = feature_points(curve, a, b, options.feature_grid);
@@ -287,7 +287,7 @@ pub fn convert(curve: &ParametricCurve, options: &ConvertOptions) -> Result<Conv
     fixed.push(b);
     if fixed.len() > options.samples {
         return Err(Error::InvalidOption {
-            name: "--samples",
+            name: "samples",
             message: format!(
                 "the curve has {} feature points; with both ends that needs at least {} samples",
                 features.len(),
@@ -313,7 +313,7 @@ pub fn convert(curve: &ParametricCurve, options: &ConvertOptions) -> Result<Conv
     } else {
         // `validate` accepted the name, so `by_name` knows it; the error keeps this total.
         let optimizer = optim::by_name(&options.method).ok_or_else(|| Error::InvalidOption {
-            name: "--method",
+            name: "method",
             message: format!("unknown method '{}'", options.method),
         })?;
         let polish_budget = options.budget / POLISH_FRACTION;
@@ -570,49 +570,49 @@ mod tests {
                     range: (1.0, 1.0),
                     ..Default::default()
                 },
-                "--range",
+                "range",
             ),
             (
                 ConvertOptions {
                     range: (0.0, f64::INFINITY),
                     ..Default::default()
                 },
-                "--range",
+                "range",
             ),
             (
                 ConvertOptions {
                     order: 1,
                     ..Default::default()
                 },
-                "--order",
+                "order",
             ),
             (
                 ConvertOptions {
                     control_points: 3,
                     ..Default::default()
                 },
-                "--control-points",
+                "control_points",
             ),
             (
                 ConvertOptions {
                     samples: 5,
                     ..Default::default()
                 },
-                "--samples",
+                "samples",
             ),
             (
                 ConvertOptions {
                     method: "nope".into(),
                     ..Default::default()
                 },
-                "--method",
+                "method",
             ),
             (
                 ConvertOptions {
                     budget: 0,
                     ..Default::default()
                 },
-                "--budget",
+                "budget",
             ),
         ] {
             match convert(&curve, &options) {
@@ -639,7 +639,7 @@ mod tests {
         let wavy = ParametricCurve::parse("u", "sin(20*pi*u)").unwrap();
         match convert(&wavy, &ConvertOptions::default()) {
             Err(Error::InvalidOption { name, message }) => {
-                assert_eq!(name, "--samples");
+                assert_eq!(name, "samples");
                 assert!(message.contains("feature points"), "{message}");
             }
             other => panic!("{other:?}"),

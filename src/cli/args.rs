@@ -229,7 +229,7 @@ impl FitArgs {
             breaks: self.breaks.parse()?,
             break_optimizer: Algorithm::from_name(&self.break_optimizer).ok_or_else(|| {
                 outlinefit::Error::InvalidOption {
-                    name: "--break-optimizer",
+                    name: "break_optimizer",
                     message: format!(
                         "unknown optimizer `{}` (expected one of {})",
                         self.break_optimizer,

@@ -1,7 +1,7 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
 use super::args::FitArgs;
-use super::messages::{fidelity_problem, trace_warnings};
+use super::messages::{error_line, fidelity_problem, trace_warnings};
 use super::output::resolve_output;
 use anyhow::{bail, Context};
 use clap::Args;
@@ -323,17 +323,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
         }
         Err(e) => {
             row.status = "failed";
-            let mut msg = e.to_string();
-            let mut src = e.source();
-            while let Some(s) = src {
-                let t = s.to_string();
-                if !msg.contains(&t) {
-                    msg.push_str(": ");
-                    msg.push_str(&t);
-                }
-                src = s.source();
-            }
-            row.message = msg;
+            row.message = error_line(e.as_ref());
         }
     }
     row

@@ -80,7 +80,7 @@ impl From<FitArg> for FitTarget {
 /// Parses `A,B` into two numbers (their order is checked by `ConvertOptions::validate`).
 fn parse_range(text: &str) -> Result<(f64, f64), Error> {
     let bad = || Error::InvalidOption {
-        name: "--range",
+        name: "range",
         message: format!("expected two numbers A,B (e.g. 0,1), got '{text}'"),
     };
     let (a, b) = text.split_once(',').ok_or_else(bad)?;

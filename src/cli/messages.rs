@@ -1,7 +1,9 @@
-//! What `trace` and `batch` tell the user about a finished trace: warnings, notes and a
-//! fidelity check that did not hold.
+//! What the command line tells the user: the warnings and notes of a finished trace (a
+//! fidelity check that did not hold among them), and errors in its own words — the
+//! library names options by their fields (`max_pixels`), the user reads flags
+//! (`--max-pixels`).
 
-use outlinefit::{Config, TraceResult};
+use outlinefit::{Config, Error, ForegroundHint, TraceResult};
 
 /// The warnings and notes a trace deserves, one line each with its `warning: ` or `note: `
 /// prefix: a polarity that looks wrong, a drawn outline that does not match the input, and
@@ -57,4 +59,112 @@ pub(crate) fn fidelity_problem(config: &Config, result: &TraceResult) -> Option<
         "the drawn outline does not match the input: {} (see \"fidelity\" in the report)",
         parts.join("; ")
     ))
+}
+
+/// The flag of an options field: `max_pixels` → `--max-pixels`, `omega/lambda/mu` →
+/// `--omega/--lambda/--mu`; the two fields whose flags differ are mapped by name.
+pub(crate) fn flag_of(field: &str) -> String {
+    match field {
+        "shape" => "--omega/--lambda/--mu".to_string(),
+        "feature_grid" => "--grid".to_string(),
+        _ => field
+            .split('/')
+            .map(|f| format!("--{}", f.replace('_', "-")))
+            .collect::<Vec<_>>()
+            .join("/"),
+    }
+}
+
+/// A library error worded for the command line, where it names options or hints at them.
+fn cli_text(e: &Error) -> Option<String> {
+    Some(match e {
+        Error::InvalidOption { name, message } => {
+            format!("invalid option {}: {message}", flag_of(name))
+        }
+        Error::TooLarge {
+            width,
+            height,
+            pixels,
+            limit,
+        } => format!(
+            "the image is {width}×{height} = {pixels} pixels, more than the limit of {limit} (raise --max-pixels)"
+        ),
+        Error::NoForeground { threshold, hint } => {
+            let hint = match hint {
+                ForegroundHint::TraceAlpha { transparent } => format!(
+                    "{:.1} % of the image is transparent: --alpha traces its alpha channel",
+                    100.0 * transparent
+                ),
+                ForegroundHint::InvertOrThreshold => {
+                    "if the shapes are light on a dark background try --invert, otherwise --threshold"
+                        .to_string()
+                }
+            };
+            format!("no shape found: every pixel is background ({threshold}); {hint}")
+        }
+        Error::AllBelowMinArea { shapes, min_area } => format!(
+            "no shape found: all {shapes} shapes are smaller than the minimum area of {min_area} px² (lower --min-area to keep them)"
+        ),
+        _ => return None,
+    })
+}
+
+/// An error and its causes on one line, each cause appended unless the text so far
+/// already holds it; library errors in the command line's words ([`flag_of`]).
+pub(crate) fn error_line(e: &(dyn std::error::Error + 'static)) -> String {
+    let text = |e: &(dyn std::error::Error + 'static)| {
+        e.downcast_ref::<Error>()
+            .and_then(cli_text)
+            .unwrap_or_else(|| e.to_string())
+    };
+    let mut line = text(e);
+    let mut source = e.source();
+    while let Some(s) = source {
+        let t = text(s);
+        if !line.contains(&t) {
+            line.push_str(": ");
+            line.push_str(&t);
+        }
+        source = s.source();
+    }
+    line.replace('\n', " ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{error_line, flag_of};
+    use outlinefit::{Config, Error};
+
+    #[test]
+    fn fields_map_to_their_flags() {
+        assert_eq!(flag_of("max_pixels"), "--max-pixels");
+        assert_eq!(flag_of("tolerance"), "--tolerance");
+        assert_eq!(flag_of("shape"), "--omega/--lambda/--mu");
+        assert_eq!(flag_of("feature_grid"), "--grid");
+    }
+
+    #[test]
+    fn an_invalid_config_is_reported_with_the_flag() {
+        let config = Config {
+            tolerance: -1.0,
+            ..Config::default()
+        };
+        let e = config.validate().unwrap_err();
+        assert!(matches!(
+            e,
+            Error::InvalidOption {
+                name: "tolerance",
+                ..
+            }
+        ));
+        assert_eq!(
+            error_line(&e),
+            "invalid option --tolerance: must be a positive number of pixels"
+        );
+        let e = Error::AllBelowMinArea {
+            shapes: 3,
+            min_area: 2.0,
+        };
+        assert!(error_line(&e).ends_with("(lower --min-area to keep them)"));
+    }
 }

@@ -12,6 +12,7 @@ mod surface;
 mod trace;
 
 use clap::{Parser, Subcommand};
+pub(crate) use messages::error_line;
 
 /// Trace bitmap outlines into G1-continuous rational cubic Bézier curves, with a
 /// per-segment error report.

@@ -168,7 +168,7 @@ pub(crate) fn run(args: &SurfaceArgs) -> anyhow::Result<i32> {
     }
     if args.mesh_res < 2 {
         return Err(Error::InvalidOption {
-            name: "--mesh-res",
+            name: "mesh_res",
             message: "must be at least 2".into(),
         }
         .into());

@@ -47,23 +47,23 @@ pub struct CompareOptions {
 }
 
 impl CompareOptions {
-    /// Checks the options, with a message naming the offending flag.
+    /// Checks the options; an error names the offending field.
     pub fn validate(&self) -> Result<()> {
         let bad = |name, message: String| Err(Error::InvalidOption { name, message });
         if self.optimizers.is_empty() {
-            return bad("--optimizers", "name at least one optimizer".into());
+            return bad("optimizers", "name at least one optimizer".into());
         }
         if self.runs == 0 {
-            return bad("--runs", "must be at least 1".into());
+            return bad("runs", "must be at least 1".into());
         }
         if self.budget == 0 {
-            return bad("--budget", "must be at least 1".into());
+            return bad("budget", "must be at least 1".into());
         }
         if self.history_points < 2 {
-            return bad("--history-points", "must be at least 2".into());
+            return bad("history_points", "must be at least 2".into());
         }
         if !(self.search_box_scale.is_finite() && self.search_box_scale >= 1.0) {
-            return bad("--search-box-scale", "must be a number ≥ 1".into());
+            return bad("search_box_scale", "must be a number ≥ 1".into());
         }
         self.trace.validate()
     }

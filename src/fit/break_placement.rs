@@ -88,7 +88,7 @@ impl FromStr for Breaks {
             "curvature" => Ok(Breaks::Curvature),
             "optimize" => Ok(Breaks::Optimize),
             _ => Err(Error::InvalidOption {
-                name: "--breaks",
+                name: "breaks",
                 message: format!("unknown mode `{s}` (expected curvature or optimize)"),
             }),
         }

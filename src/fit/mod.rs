@@ -60,7 +60,7 @@ impl FromStr for Method {
         Algorithm::from_name(s)
             .map(Method::Metaheuristic)
             .ok_or_else(|| Error::InvalidOption {
-                name: "--optimizer",
+                name: "optimizer",
                 message: format!(
                     "unknown optimizer `{s}` (expected lsq or one of {})",
                     NAMES.join(", ")

@@ -319,7 +319,7 @@ impl MergeProblem {
             } => {
                 if budget == 0 {
                     return Err(Error::InvalidOption {
-                        name: "--budget",
+                        name: "budget",
                         message: "must be at least 1".to_string(),
                     });
                 }
@@ -450,7 +450,7 @@ fn validate(a: &DiskWangBall, b: &DiskWangBall, options: &MergeOptions) -> Resul
     let lowest = a.degree().max(b.degree());
     if options.degree < lowest || options.degree > MAX_DEGREE {
         return Err(Error::InvalidOption {
-            name: "--degree",
+            name: "degree",
             message: format!(
                 "must be between {lowest} (the higher input degree) and {MAX_DEGREE}, got {}",
                 options.degree
@@ -459,13 +459,13 @@ fn validate(a: &DiskWangBall, b: &DiskWangBall, options: &MergeOptions) -> Resul
     }
     if !(options.min_radius.is_finite() && options.min_radius >= 0.0) {
         return Err(Error::InvalidOption {
-            name: "--min-radius",
+            name: "min_radius",
             message: "must be a non-negative number".to_string(),
         });
     }
     if !(options.box_scale.is_finite() && options.box_scale > 0.0) {
         return Err(Error::InvalidOption {
-            name: "--box-scale",
+            name: "box_scale",
             message: "must be a positive number".to_string(),
         });
     }

@@ -284,11 +284,11 @@ fn bad_inputs_are_typed_errors() {
             .map(|e| e.to_string())
             .unwrap_or_default()
     };
-    assert!(err(&a, &b, MergeOptions::new(3)).contains("--degree"));
-    assert!(err(&a, &b, MergeOptions::new(MAX_DEGREE + 1)).contains("--degree"));
+    assert!(err(&a, &b, MergeOptions::new(3)).contains("degree"));
+    assert!(err(&a, &b, MergeOptions::new(MAX_DEGREE + 1)).contains("degree"));
     let mut o = MergeOptions::new(6);
     o.min_radius = -1.0;
-    assert!(err(&a, &b, o).contains("--min-radius"));
+    assert!(err(&a, &b, o).contains("min_radius"));
     let mut moved = b.clone();
     moved.disks[0].center.x += 0.1;
     assert!(err(&a, &moved, MergeOptions::new(6)).contains("not adjacent"));

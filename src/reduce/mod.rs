@@ -182,7 +182,7 @@ pub fn reduce(original: &SgBezier, options: &ReduceOptions) -> Result<Reduction>
         let shape = match &options.shape {
             Some(s) => {
                 s.validate(m).map_err(|e| Error::InvalidOption {
-                    name: "--omega/--lambda/--mu",
+                    name: "shape",
                     message: format!("the reduced curve's shape: {e}"),
                 })?;
                 s.clone()
@@ -203,7 +203,7 @@ pub fn reduce(original: &SgBezier, options: &ReduceOptions) -> Result<Reduction>
     }
     let Some(optimizer) = optim::by_name(&options.method) else {
         return Err(Error::InvalidOption {
-            name: "--method",
+            name: "method",
             message: format!(
                 "unknown method {:?}; expected exact or one of {}",
                 options.method,
@@ -213,14 +213,14 @@ pub fn reduce(original: &SgBezier, options: &ReduceOptions) -> Result<Reduction>
     };
     if options.shape.is_some() {
         return Err(Error::InvalidOption {
-            name: "--omega/--lambda/--mu",
-            message: "a fixed shape applies to --method exact only (an optimizer searches it)"
+            name: "shape",
+            message: "a fixed shape applies to the exact method only (an optimizer searches it)"
                 .to_string(),
         });
     }
     if options.budget == 0 {
         return Err(Error::InvalidOption {
-            name: "--budget",
+            name: "budget",
             message: "must be at least 1".to_string(),
         });
     }
@@ -387,7 +387,7 @@ impl Reducer {
                 )
             };
             return Err(Error::InvalidOption {
-                name: "--degree",
+                name: "degree",
                 message,
             });
         }

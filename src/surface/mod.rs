@@ -159,13 +159,13 @@ pub fn validate(cloud: &PointCloud, options: &SurfaceOptions) -> Result<(), Erro
     let (eta, sigma) = options.degree;
     if !(1..=MAX_DEGREE).contains(&eta) || !(1..=MAX_DEGREE).contains(&sigma) {
         return Err(Error::InvalidOption {
-            name: "--degree",
+            name: "degree",
             message: format!("each degree must be from 1 to {MAX_DEGREE}, got ({eta}, {sigma})"),
         });
     }
     if options.method.is_search() && options.budget == 0 {
         return Err(Error::InvalidOption {
-            name: "--budget",
+            name: "budget",
             message: "a search needs at least one evaluation".into(),
         });
     }
