@@ -19,7 +19,7 @@
 //!    regions; a region larger than max(`--min-area`, 2) px² is a lost or invented part
 //!    (smaller ones are specks that `--min-area` drops on purpose).
 //!
-//! [`crate::trace_bitmap`] repairs what fails (see [`Repair`]) and reports the final check
+//! [`crate::trace_bitmap`] repairs what fails (see `repair`) and reports the final check
 //! in [`Fidelity`].
 
 use crate::curve::CubicBez;

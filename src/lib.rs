@@ -39,9 +39,18 @@
 //! assert_eq!(svg.matches("<path").count(), 1);
 //! # Ok::<(), outlinefit::Error>(())
 //! ```
+//!
+//! ## Features
+//!
+//! Without default features the crate is the tracer alone (every stage above, the SVG
+//! writer and the reports). `lab` adds `compare`, `stats` and `plot` (`plotters`);
+//! `papers` adds `bspline`, `reduce` and `surface` (and `lab`; `exmex`); `cli`, the default,
+//! builds the `outlinefit` program (`clap`, `indicatif`, `anyhow`, `ctrlc`) with both.
 
 pub mod breaks;
+#[cfg(feature = "papers")]
 pub mod bspline;
+#[cfg(feature = "lab")]
 pub mod compare;
 pub mod contour;
 pub mod curve;
@@ -55,13 +64,17 @@ pub mod io;
 pub mod merge;
 pub mod optim;
 pub mod param;
+#[cfg(feature = "lab")]
 pub mod plot;
 pub mod quad;
 pub mod raster;
+#[cfg(feature = "papers")]
 pub mod reduce;
 mod repair;
 pub mod report;
+#[cfg(feature = "lab")]
 pub mod stats;
+#[cfg(feature = "papers")]
 pub mod surface;
 
 pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};

@@ -133,7 +133,7 @@ impl PowerCubic {
         }
     }
 
-    /// See [`RationalCubic::project_quick`].
+    /// See [`RationalCubic::project_quick`](crate::curve::RationalCubic::project_quick).
     pub fn project_quick(&self, q: Point, u0: f64, iterations: usize) -> f64 {
         let mut u = u0.clamp(0.0, 1.0);
         let mut jet = self.jet(u);
@@ -157,7 +157,7 @@ impl PowerCubic {
         u
     }
 
-    /// See [`RationalCubic::refine_projection`]; Newton stops at steps shorter than
+    /// See [`RationalCubic::refine_projection`](crate::curve::RationalCubic::refine_projection); Newton stops at steps shorter than
     /// `min_step`.
     pub fn refine_projection(&self, q: Point, u0: f64, min_step: f64) -> (f64, f64) {
         let mut u = if u0.is_finite() {

@@ -1,6 +1,6 @@
 //! SG-Bernstein basis functions and SG-Bézier curves (shape-adjustable generalized Bézier
 //! curves), after Definition 1, Remark 1 and Definition 2 of the grey-wolf degree-reduction
-//! paper (`sg-bezier-degree-reduction-gwo.txt`, which takes them from Hu et al. [20]).
+//! paper (`sg-bezier-degree-reduction-gwo.txt`, which takes them from Hu et al. \[20\]).
 //!
 //! An SG-Bézier curve of degree n has n + 1 control points P_j and is
 //! L(t) = Σ_j P_j l_{j,n}(t), t ∈ [0, 1], where the SG-Bernstein functions l_{j,n} are
@@ -262,7 +262,7 @@ pub fn sg_basis(n: usize, shape: &SgShape, t: f64, out: &mut [f64]) -> Result<()
 
 /// The exact coefficients of every SG-Bernstein function in the Bernstein basis of degree
 /// n + 1: row i holds the n + 2 coefficients of l_{i,n}, so
-/// l_{i,n}(t) = Σ_k row_i[k] C(n+1,k) t^k (1−t)^{n+1−k}. Only entries i and i + 1 of row i
+/// l_{i,n}(t) = Σ_k row_i\[k\] C(n+1,k) t^k (1−t)^{n+1−k}. Only entries i and i + 1 of row i
 /// are nonzero.
 pub fn sg_to_bernstein(n: usize, shape: &SgShape) -> Result<Vec<Vec<f64>>, SgError> {
     shape.validate(n)?;

@@ -9,7 +9,7 @@
 //! their own path.
 //!
 //! SVG cannot draw rational curves, so each rational segment goes through
-//! [`approximate_with_cubics`] with [`SvgOptions::bound`]: polynomial segments are written
+//! [`approximate_with_cubics`](crate::curve::cubic::approximate_with_cubics) with [`SvgOptions::bound`]: polynomial segments are written
 //! exactly, rational ones as one or more cubics whose measured distance to the rational
 //! curve is within the bound, and G1 joints stay G1. The exact rational data belongs in the
 //! JSON report.

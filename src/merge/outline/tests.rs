@@ -177,6 +177,7 @@ fn covers_counts_cyclically() {
 }
 
 #[test]
+#[cfg(feature = "papers")]
 fn c1_cubic_is_the_c1_constrained_least_squares_reduction() {
     // For a cubic, C1 end conditions leave nothing free: the reduce module's exact
     // C1-constrained L2 reduction must give the same control points.
