@@ -1,6 +1,7 @@
 //! Curve types. Rational cubic Bézier segments are the fitting primitive; polynomial
 //! cubics are what SVG can draw.
 
+pub mod basis;
 pub mod cubic;
 pub mod power;
 pub mod rational;

@@ -50,21 +50,8 @@
 //! (p + q) / C(n+1,i+1) on B_{i+1,n+1} ([`sg_to_bernstein`]). Written by hand: no
 //! maintained crate implements SG-Bézier curves.
 
+use super::basis::binomial;
 use crate::geom::Point;
-
-/// Binomial coefficient C(n, k) as an `f64` (exact while it stays below 2^53); 0 for k > n.
-fn binom(n: usize, k: usize) -> f64 {
-    if k > n {
-        return 0.0;
-    }
-    let k = k.min(n - k);
-    let mut r = 1.0;
-    for i in 1..=k {
-        // r = C(n − k + i, i) after this step: an integer at every step.
-        r = r * (n - k + i) as f64 / i as f64;
-    }
-    r
-}
 
 /// What is wrong with a set of SG-Bézier shape parameters or control points.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -150,10 +137,10 @@ impl SgShape {
         SgShape {
             omega: 0.0,
             lambda: (1..=Self::lambda_len(n))
-                .map(|j| 0.5 * binom(n + 1, j))
+                .map(|j| 0.5 * binomial(n + 1, j))
                 .collect(),
             mu: (1..=Self::mu_len(n))
-                .map(|j| 0.5 * binom(n + 1, j))
+                .map(|j| 0.5 * binomial(n + 1, j))
                 .collect(),
         }
     }
@@ -192,7 +179,7 @@ impl SgShape {
         }
         let (lam, mu) = self.full(n);
         (1..lam.len()).all(|j| {
-            let c = binom(n + 1, j);
+            let c = binomial(n + 1, j);
             (0.0..=c).contains(&lam[j]) && (0.0..=c).contains(&mu[j])
         })
     }
@@ -207,12 +194,12 @@ impl SgShape {
         mu[1..=self.mu.len()].copy_from_slice(&self.mu);
         if n.is_multiple_of(2) {
             // Remark 1(a); C(n+1,h) = C(n+1,h+1) for even n.
-            let c = binom(n + 1, h);
+            let c = binomial(n + 1, h);
             lam[h + 1] = c - mu[h];
             mu[h + 1] = c - lam[h];
         } else {
             // Remark 1(b).
-            mu[h + 1] = binom(n + 1, h + 1) - lam[h + 1];
+            mu[h + 1] = binomial(n + 1, h + 1) - lam[h + 1];
         }
         (lam, mu)
     }
@@ -226,11 +213,11 @@ impl SgShape {
         // Second line first, so that for even n the middle index ends up with the first
         // line's form (the two agree under Remark 1(a)).
         for j in 0..=n / 2 {
-            let (cn, cn1) = (binom(n, j), binom(n + 1, j));
+            let (cn, cn1) = (binomial(n, j), binomial(n + 1, j));
             pq[n - j] = (cn + (mu[j + 1] - cn) * w, -(mu[j] + mu[j + 1] - cn1) * w);
         }
         for j in 0..=n / 2 {
-            let (cn, cn1) = (binom(n, j), binom(n + 1, j));
+            let (cn, cn1) = (binomial(n, j), binomial(n + 1, j));
             pq[j] = (
                 cn + (cn1 - cn - lam[j]) * w,
                 (lam[j] + lam[j + 1] - cn1) * w,
@@ -273,8 +260,8 @@ pub fn sg_to_bernstein(n: usize, shape: &SgShape) -> Result<Vec<Vec<f64>>, SgErr
         .map(|(i, (p, q))| {
             // (p + q t) t^i (1−t)^{n−i} = p t^i (1−t)^{n+1−i} + (p + q) t^{i+1} (1−t)^{n−i}.
             let mut row = vec![0.0; n + 2];
-            row[i] = p / binom(n + 1, i);
-            row[i + 1] = (p + q) / binom(n + 1, i + 1);
+            row[i] = p / binomial(n + 1, i);
+            row[i + 1] = (p + q) / binomial(n + 1, i + 1);
             row
         })
         .collect())
@@ -382,10 +369,10 @@ mod tests {
     fn random_shape(rng: &mut Rng, n: usize, lo_w: f64, hi_w: f64) -> SgShape {
         let omega = rng.range(lo_w, hi_w);
         let lambda = (1..=SgShape::lambda_len(n))
-            .map(|j| rng.range(0.0, binom(n + 1, j)))
+            .map(|j| rng.range(0.0, binomial(n + 1, j)))
             .collect();
         let mu = (1..=SgShape::mu_len(n))
-            .map(|j| rng.range(0.0, binom(n + 1, j)))
+            .map(|j| rng.range(0.0, binomial(n + 1, j)))
             .collect();
         SgShape::new(n, omega, lambda, mu).unwrap()
     }
@@ -407,14 +394,6 @@ mod tests {
 
     fn ts() -> Vec<f64> {
         (0..=200).map(|i| i as f64 / 200.0).collect()
-    }
-
-    #[test]
-    fn binomials() {
-        assert_eq!(binom(0, 0), 1.0);
-        assert_eq!(binom(7, 3), 35.0);
-        assert_eq!(binom(11, 5), 462.0);
-        assert_eq!(binom(3, 4), 0.0);
     }
 
     #[test]
@@ -477,7 +456,7 @@ mod tests {
                 let mut s = random_shape(&mut rng, n, -1.0, 1.0);
                 s.mu = s.lambda[..h].to_vec();
                 if n % 2 == 1 {
-                    s.lambda[h] = 0.5 * binom(n + 1, h + 1);
+                    s.lambda[h] = 0.5 * binomial(n + 1, h + 1);
                 }
                 for t in ts() {
                     sg_basis(n, &s, t, &mut a).unwrap();
@@ -504,7 +483,7 @@ mod tests {
             for _ in 0..10 {
                 let s = random_shape(&mut rng, n, -1.0, 1.0);
                 let (lam, mu) = s.full(n);
-                let (cn, cn1, w) = (binom(n, h), binom(n + 1, h), s.omega);
+                let (cn, cn1, w) = (binomial(n, h), binomial(n + 1, h), s.omega);
                 let first = (
                     cn + (cn1 - cn - lam[h]) * w,
                     (lam[h] + lam[h + 1] - cn1) * w,

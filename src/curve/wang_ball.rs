@@ -27,6 +27,7 @@
 //!
 //! No maintained crate implements Wang–Ball curves, so this module is hand-written.
 
+use super::basis::{binomial_exact, de_casteljau_split};
 use crate::geom::Point;
 
 /// `⌊n/2⌋` and, for an index `i ≤ ⌊n/2⌋` of a left-half basis function, the exponents
@@ -177,20 +178,6 @@ impl Ratio {
     }
 }
 
-/// Exact binomial coefficient (`None` on overflow).
-fn binom(n: usize, k: usize) -> Option<i128> {
-    if k > n {
-        return Some(0);
-    }
-    let k = k.min(n - k);
-    let mut c: i128 = 1;
-    for j in 0..k {
-        // c · (n − j) / (j + 1) stays an integer at every step.
-        c = c.checked_mul((n - j) as i128)? / (j as i128 + 1);
-    }
-    Some(c)
-}
-
 /// The exact matrix `T` with `W_{i,n} = Σ_j T[j][i] B_{j,n}` (`None` on overflow).
 fn wang_ball_to_bernstein_exact(n: usize) -> Option<Vec<Vec<Ratio>>> {
     let mut m = vec![vec![Ratio::ZERO; n + 1]; n + 1];
@@ -203,7 +190,10 @@ fn wang_ball_to_bernstein_exact(n: usize) -> Option<Vec<Vec<Ratio>>> {
         let pow2 = 1i128.checked_shl(a as u32)?;
         for k in 0..=(n - deg) {
             let j = a + k;
-            let c = Ratio::new(pow2.checked_mul(binom(n - deg, k)?)?, binom(n, j)?)?;
+            let c = Ratio::new(
+                pow2.checked_mul(binomial_exact(n - deg, k)?)?,
+                binomial_exact(n, j)?,
+            )?;
             // B_j(1 − t) = B_{n−j}(t).
             let row = if mirrored { n - j } else { j };
             m[row][i] = c;
@@ -349,25 +339,6 @@ pub fn wang_ball_points_to_bezier(points: &[Point]) -> Vec<Point> {
 pub fn bezier_points_to_wang_ball(points: &[Point]) -> Vec<Point> {
     assert!(points.len() >= 2, "need at least two control points");
     apply(&bernstein_to_wang_ball(points.len() - 1), points)
-}
-
-/// Splits Bézier control points at `t` by de Casteljau's algorithm.
-fn de_casteljau_split(points: &[Point], t: f64) -> (Vec<Point>, Vec<Point>) {
-    let n = points.len();
-    let mut work = points.to_vec();
-    let mut left = Vec::with_capacity(n);
-    let mut right = Vec::with_capacity(n);
-    left.push(work[0]);
-    right.push(work[n - 1]);
-    for level in 1..n {
-        for k in 0..n - level {
-            work[k] = work[k].lerp(work[k + 1], t);
-        }
-        left.push(work[0]);
-        right.push(work[n - 1 - level]);
-    }
-    right.reverse();
-    (left, right)
 }
 
 fn check_degree(len: usize) -> usize {
@@ -640,7 +611,7 @@ mod tests {
                     let b: f64 = (0..=n)
                         .map(|j| {
                             t_mat[j][i]
-                                * binom(n, j).unwrap() as f64
+                                * binomial_exact(n, j).unwrap() as f64
                                 * t.powi(j as i32)
                                 * (1.0 - t).powi((n - j) as i32)
                         })

@@ -30,6 +30,7 @@
 //! rational segment (16-point Gauss–Legendre; the integrand is rational, not polynomial).
 
 use super::bounded::minimize_lower_bounded;
+use crate::curve::basis::{bernstein, de_casteljau};
 use crate::curve::wang_ball::{
     bezier_points_to_wang_ball, wang_ball_basis, wang_ball_points_to_bezier, Disk, DiskWangBall,
 };
@@ -437,22 +438,6 @@ fn chord_params(points: &[Point]) -> Vec<f64> {
     t
 }
 
-/// Bernstein basis values of degree `n` at `t`.
-fn bernstein(n: usize, t: f64, out: &mut [f64]) {
-    out.fill(0.0);
-    out[0] = 1.0;
-    let s = 1.0 - t;
-    for j in 1..=n {
-        let mut saved = 0.0;
-        for k in 0..j {
-            let tmp = out[k];
-            out[k] = saved + s * tmp;
-            saved = t * tmp;
-        }
-        out[j] = saved;
-    }
-}
-
 /// Least-squares Bézier control points with fixed ends and optional end tangents (α, β > 0
 /// required); `None` if degenerate or a tangent would reverse.
 #[allow(clippy::too_many_arguments)]
@@ -608,33 +593,6 @@ impl Bezier {
 fn hodograph(points: &[Point]) -> Vec<Point> {
     let n = points.len().saturating_sub(1) as f64;
     points.windows(2).map(|w| (w[1] - w[0]) * n).collect()
-}
-
-fn de_casteljau(points: &[Point], t: f64) -> Point {
-    match points.len() {
-        0 => Point::ZERO,
-        1 => points[0],
-        len => {
-            let mut tmp: [Point; 24] = [Point::ZERO; 24];
-            if len > tmp.len() {
-                // Degrees are bounded by MAX_DEGREE (20); fall back to allocation beyond.
-                let mut v = points.to_vec();
-                for r in 1..len {
-                    for i in 0..len - r {
-                        v[i] = v[i].lerp(v[i + 1], t);
-                    }
-                }
-                return v[0];
-            }
-            tmp[..len].copy_from_slice(points);
-            for r in 1..len {
-                for i in 0..len - r {
-                    tmp[i] = tmp[i].lerp(tmp[i + 1], t);
-                }
-            }
-            tmp[0]
-        }
-    }
 }
 
 #[cfg(test)]

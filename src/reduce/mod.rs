@@ -70,6 +70,7 @@ mod file;
 
 pub use file::{parse_curve_json, read_curve_json, reduction_svg};
 
+use crate::curve::basis::binomial;
 use crate::curve::sg_bezier::{sg_basis, sg_to_bernstein, SgBezier, SgShape};
 use crate::error::{Error, Result};
 use crate::geom::Point;
@@ -317,15 +318,6 @@ pub fn l2_distance(a: &SgBezier, b: &SgBezier) -> Result<f64> {
     Ok(sum.sqrt())
 }
 
-/// Binomial coefficient C(n, k) as an `f64`; 0 for k > n.
-fn binom(n: usize, k: usize) -> f64 {
-    if k > n {
-        return 0.0;
-    }
-    let k = k.min(n - k);
-    (1..=k).fold(1.0, |r, i| r * (n - k + i) as f64 / i as f64)
-}
-
 /// Derivatives of the degree-m SG-Bernstein functions at the ends: (l'_{i,m}(0),
 /// l'_{i,m}(1)) for every i, from their exact Bernstein form of degree m + 1.
 fn end_derivatives(m: usize, shape: &SgShape) -> Result<Vec<(f64, f64)>> {
@@ -567,8 +559,8 @@ impl Problem for ShapeProblem<'_> {
         let nl = SgShape::lambda_len(m);
         match i {
             0 => (0.0, 1.0),
-            i if i <= nl => (0.0, binom(m + 1, i)),
-            i => (0.0, binom(m + 1, i - nl)),
+            i if i <= nl => (0.0, binomial(m + 1, i)),
+            i => (0.0, binomial(m + 1, i - nl)),
         }
     }
 

@@ -38,10 +38,10 @@ impl Rng {
     fn shape(&mut self, n: usize) -> SgShape {
         let omega = self.range(0.0, 1.0);
         let lambda = (1..=SgShape::lambda_len(n))
-            .map(|j| self.range(0.0, binom(n + 1, j)))
+            .map(|j| self.range(0.0, binomial(n + 1, j)))
             .collect();
         let mu = (1..=SgShape::mu_len(n))
-            .map(|j| self.range(0.0, binom(n + 1, j)))
+            .map(|j| self.range(0.0, binomial(n + 1, j)))
             .collect();
         SgShape::new(n, omega, lambda, mu).unwrap()
     }

@@ -1,52 +1,8 @@
-//! Tensor-product Bézier surfaces of degree (η, σ) in 3-D: the Bernstein basis with its
-//! first two derivatives, evaluation, partial derivatives and the mesh of a surface.
+//! Tensor-product Bézier surfaces of degree (η, σ) in 3-D: evaluation, partial derivatives
+//! and the mesh of a surface (the Bernstein basis is [`crate::curve::basis`]).
 
+use crate::curve::basis::{bernstein, bernstein_jet};
 use serde::Serialize;
-
-/// The Bernstein polynomials of degree `n` at `t` (Eq. 3), written into `out[..=n]`, by
-/// the triangular recurrence B_k^j = (1 − t) B_k^{j−1} + t B_{k−1}^{j−1} (no binomials,
-/// no powers; stable on [0, 1]).
-pub fn bernstein(n: usize, t: f64, out: &mut [f64]) {
-    let s = 1.0 - t;
-    out[0] = 1.0;
-    for j in 1..=n {
-        let mut saved = 0.0;
-        for k in 0..j {
-            let b = out[k];
-            out[k] = saved + s * b;
-            saved = t * b;
-        }
-        out[j] = saved;
-    }
-}
-
-/// The Bernstein polynomials of degree `n` at `t` and their first and second derivatives,
-/// each into `b[..=n]`, `d1[..=n]`, `d2[..=n]`; `d1` and `d2` come from the lower degrees:
-/// d/dt B_i^n = n (B_{i−1}^{n−1} − B_i^{n−1}).
-pub fn bernstein_jet(n: usize, t: f64, b: &mut [f64], d1: &mut [f64], d2: &mut [f64]) {
-    // b holds degree n − 2, then n − 1, then n, differences taken on the way.
-    for v in d1[..=n].iter_mut().chain(d2[..=n].iter_mut()) {
-        *v = 0.0;
-    }
-    if n >= 2 {
-        bernstein(n - 2, t, b);
-        let c = (n * (n - 1)) as f64;
-        for i in 0..=n - 2 {
-            d2[i] += c * b[i];
-            d2[i + 1] -= 2.0 * c * b[i];
-            d2[i + 2] += c * b[i];
-        }
-    }
-    if n >= 1 {
-        bernstein(n - 1, t, b);
-        let c = n as f64;
-        for i in 0..n {
-            d1[i] -= c * b[i];
-            d1[i + 1] += c * b[i];
-        }
-    }
-    bernstein(n, t, b);
-}
 
 /// A point or vector in 3-D.
 pub type P3 = [f64; 3];
@@ -173,36 +129,6 @@ pub const MAX_DEGREE: usize = 30;
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn binom(n: usize, k: usize) -> f64 {
-        (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
-    }
-
-    #[test]
-    fn bernstein_matches_the_closed_form_and_its_derivatives() {
-        for n in 0..=12 {
-            for &t in &[0.0, 0.13, 0.5, 0.77, 1.0] {
-                let (mut b, mut d1, mut d2) = ([0.0; 32], [0.0; 32], [0.0; 32]);
-                bernstein_jet(n, t, &mut b, &mut d1, &mut d2);
-                let h = 1e-5;
-                for k in 0..=n {
-                    let f =
-                        |t: f64| binom(n, k) * t.powi(k as i32) * (1.0 - t).powi((n - k) as i32);
-                    assert!((b[k] - f(t)).abs() < 1e-14, "n {n} k {k} t {t}");
-                    let fd1 = (f(t + h) - f(t - h)) / (2.0 * h);
-                    let fd2 = (f(t + h) - 2.0 * f(t) + f(t - h)) / (h * h);
-                    assert!(
-                        (d1[k] - fd1).abs() < 1e-6 * (1.0 + fd1.abs()),
-                        "d1 n {n} k {k}"
-                    );
-                    assert!(
-                        (d2[k] - fd2).abs() < 1e-3 * (1.0 + fd2.abs()),
-                        "d2 n {n} k {k}"
-                    );
-                }
-            }
-        }
-    }
 
     #[test]
     fn jet_derivatives_match_differences() {

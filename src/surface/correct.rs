@@ -17,9 +17,10 @@
 //! variable-projection functional (the residual with the poles eliminated by least
 //! squares, Golub–Pereyra) follows and converges quadratically on exact data.
 
-use super::bezier::{axpy, bernstein, bernstein_jet, dot, sub, BezierSurface, P3};
+use super::bezier::{axpy, dot, sub, BezierSurface, P3};
 use super::data::{Params, PointCloud};
 use super::solve::Fitter;
+use crate::curve::basis::{bernstein, bernstein_jet};
 use nalgebra::{DMatrix, DVector};
 
 /// Most alternation rounds.

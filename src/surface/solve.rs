@@ -14,8 +14,9 @@
 //! distinct values than the degree needs, as random parameters may), the poles come from
 //! the Moore–Penrose pseudo-inverse by SVD, as in the paper (§5.3).
 
-use super::bezier::{axpy, bernstein, sub, BezierSurface, P3};
+use super::bezier::{axpy, sub, BezierSurface, P3};
 use super::data::{Params, PointCloud};
+use crate::curve::basis::bernstein;
 use nalgebra::{Cholesky, DMatrix, DMatrixView, Dyn};
 
 /// Smallest ratio of the smallest to the largest squared Cholesky pivot accepted before
