@@ -215,7 +215,7 @@ pub fn reduce(original: &SgBezier, options: &ReduceOptions) -> Result<Reduction>
     if options.shape.is_some() {
         return Err(Error::InvalidOption {
             name: "shape",
-            message: "a fixed shape applies to the exact method only (an optimizer searches it)"
+            message: "a fixed shape applies to method exact only (an optimizer searches it)"
                 .to_string(),
         });
     }
