@@ -18,6 +18,7 @@
 //! - The y axis always spans whole decades, so it has at least two labelled ticks.
 //! - Series `k` gets colour [`series_color`]`(k)`: eleven distinct colours, then they repeat.
 
+use crate::stats::quantile_sorted;
 use plotters::coord::combinators::IntoLogRange;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, KeyPointWeight, Ranged};
 use plotters::coord::types::RangedCoordf64;
@@ -143,18 +144,6 @@ fn decade_range(lo: f64, hi: f64) -> std::ops::Range<f64> {
     10f64.powf(a) * (1.0 - 1e-9)..10f64.powf(b) * (1.0 + 1e-9)
 }
 
-/// Linear-interpolation percentile (`p` in [0, 1]) of a sorted, non-empty slice.
-fn percentile_sorted(s: &[f64], p: f64) -> f64 {
-    if s.len() == 1 {
-        return s[0];
-    }
-    let rank = p * (s.len() - 1) as f64;
-    let lo = rank.floor() as usize;
-    let hi = (lo + 1).min(s.len() - 1);
-    let d = rank - lo as f64;
-    s[lo] + (s[hi] - s[lo]) * d
-}
-
 /// Indices of at most `max` (≥ 4) samples of a history of `len` points: half log-spaced,
 /// half evenly spaced, always including the first and last, strictly increasing.
 fn sample_indices(len: usize, max: usize) -> Vec<usize> {
@@ -276,9 +265,9 @@ pub fn convergence(
                     column.sort_unstable_by(f64::total_cmp);
                     Some((
                         evaluations[i] as f64,
-                        percentile_sorted(&column, 0.25),
-                        percentile_sorted(&column, 0.5),
-                        percentile_sorted(&column, 0.75),
+                        quantile_sorted(&column, 0.25),
+                        quantile_sorted(&column, 0.5),
+                        quantile_sorted(&column, 0.75),
                     ))
                 })
                 .collect()
@@ -379,9 +368,9 @@ struct BoxStats {
 impl BoxStats {
     /// `sorted` must be non-empty and sorted ascending.
     fn new(sorted: &[f64]) -> Self {
-        let q1 = percentile_sorted(sorted, 0.25);
-        let median = percentile_sorted(sorted, 0.5);
-        let q3 = percentile_sorted(sorted, 0.75);
+        let q1 = quantile_sorted(sorted, 0.25);
+        let median = quantile_sorted(sorted, 0.5);
+        let q3 = quantile_sorted(sorted, 0.75);
         let iqr = q3 - q1;
         let (lo_fence, hi_fence) = (q1 - 1.5 * iqr, q3 + 1.5 * iqr);
         let inside = || {
@@ -868,16 +857,6 @@ mod tests {
         assert!(r.end >= 100.0 && r.end < 100.1, "{r:?}");
         let r = decade_range(0.1, 0.1);
         assert!(r.start < 0.1 && r.end > 0.1, "{r:?}");
-    }
-
-    #[test]
-    fn percentiles_interpolate_linearly() {
-        let s = [1.0, 2.0, 3.0, 4.0, 5.0];
-        assert_eq!(percentile_sorted(&s, 0.5), 3.0);
-        assert_eq!(percentile_sorted(&s, 0.25), 2.0);
-        assert_eq!(percentile_sorted(&[1.0, 2.0], 0.5), 1.5);
-        assert_eq!(percentile_sorted(&[7.0], 0.75), 7.0);
-        assert_eq!(percentile_sorted(&s, 1.0), 5.0);
     }
 
     #[test]

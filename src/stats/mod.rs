@@ -147,8 +147,9 @@ pub fn describe(x: &[f64]) -> Result<Describe, StatsError> {
 }
 
 /// The `q` quantile of sorted, non-empty data by linear interpolation (numpy's "linear",
-/// including its choice of interpolating from the nearer end).
-fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
+/// including its choice of interpolating from the nearer end). The one quantile of the
+/// crate: the statistics and the box plots use it.
+pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
     let pos = (sorted.len() - 1) as f64 * q;
     let lo = pos.floor() as usize;
     let t = pos - lo as f64;

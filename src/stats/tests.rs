@@ -396,3 +396,15 @@ fn results_serialize() {
     serde_json::to_value(f_test(&HS30, &GA30).unwrap()).unwrap();
     serde_json::to_value(anova_oneway(&[&HS30, &GA30]).unwrap()).unwrap();
 }
+
+#[test]
+fn quantiles_interpolate_linearly_between_order_statistics() {
+    let s = [1.0, 2.0, 3.0, 4.0, 5.0];
+    assert_eq!(quantile_sorted(&s, 0.5), 3.0);
+    assert_eq!(quantile_sorted(&s, 0.25), 2.0);
+    assert_eq!(quantile_sorted(&s, 0.6), 3.4);
+    assert_eq!(quantile_sorted(&[1.0, 2.0], 0.5), 1.5);
+    assert_eq!(quantile_sorted(&[7.0], 0.75), 7.0);
+    assert_eq!(quantile_sorted(&s, 1.0), 5.0);
+    assert_eq!(quantile_sorted(&s, 0.0), 1.0);
+}
