@@ -17,7 +17,7 @@
 //! (linear interpolation along the polygon), so every break is a data point.
 
 use crate::contour::Contour;
-use crate::geom::{angle_between, wrap_once, Point};
+use crate::geom::{angle_between, line_crossing, wrap_once, Point};
 use serde::{Deserialize, Serialize};
 
 /// Options of break detection.
@@ -426,14 +426,7 @@ pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
 /// Intersection of the line through a0, a1 with the line through b0, b1, if they are not
 /// (nearly) parallel.
 fn line_intersection(a0: Point, a1: Point, b0: Point, b1: Point) -> Option<Point> {
-    let da = a1 - a0;
-    let db = b1 - b0;
-    let den = da.cross(db);
-    if den.abs() < 1e-9 * da.length() * db.length() {
-        return None;
-    }
-    let t = (b0 - a0).cross(db) / den;
-    Some(a0 + da * t)
+    line_crossing(a0, a1 - a0, b0, b1 - b0, 1e-9)
 }
 
 /// A corner turning by more than this (degrees) may be a square end: two corners closer

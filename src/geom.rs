@@ -152,6 +152,19 @@ pub fn signed_area(points: &[Point]) -> f64 {
     0.5 * acc
 }
 
+/// Where the line through `a` along `da` meets the line through `b` along `db`:
+/// a + da·s with s = ((b − a) × db) / (da × db). `None` when the sine of the angle between
+/// them is below `min_sin` (|da × db| < min_sin·|da|·|db|: parallel, or nearly so) or
+/// the crossing is not finite.
+pub fn line_crossing(a: Point, da: Point, b: Point, db: Point, min_sin: f64) -> Option<Point> {
+    let den = da.cross(db);
+    if den.abs() < min_sin * da.length() * db.length() {
+        return None;
+    }
+    let x = a + da * ((b - a).cross(db) / den);
+    x.is_finite().then_some(x)
+}
+
 /// Distance from `p` to the segment from `a` to `b` (to `a` when they coincide).
 pub fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
     let ab = b - a;

@@ -37,6 +37,7 @@ use crate::curve::wang_ball::{
 use crate::curve::CubicBez;
 use crate::fit::{FittedContour, JointKind};
 use crate::geom::Point;
+use crate::param::{parameters_into, Parameterization};
 use crate::quad::GaussLegendre;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -424,17 +425,7 @@ fn split(points: &[Point], t: f64) -> (Vec<Point>, Vec<Point>) {
 /// Chord-length parameters in [0, 1].
 fn chord_params(points: &[Point]) -> Vec<f64> {
     let mut t = Vec::with_capacity(points.len());
-    let mut s = 0.0;
-    t.push(0.0);
-    for w in points.windows(2) {
-        s += w[0].distance(w[1]);
-        t.push(s);
-    }
-    if s > 0.0 {
-        for v in &mut t {
-            *v /= s;
-        }
-    }
+    parameters_into(points, Parameterization::Chordal, &mut t);
     t
 }
 

@@ -1,0 +1,465 @@
+//! Edge placement on grey levels: each crack midpoint moved along the coverage gradient
+//! to the edge by coverage integration, the curvature bias corrected, anti-aliased corners
+//! sharpened, and the noise measure that sends noisy grey levels to the bilevel path.
+
+use super::lines::fit_line;
+use super::lines::intersect;
+use super::lines::norm;
+use super::lines::turn_angle;
+use super::lines::unit;
+use super::lines::ArcWalk;
+use super::mask::Crack;
+use super::spikes::mark_edits;
+use super::workspace::Workspace;
+use crate::geom::distance_to_closed_polyline;
+use crate::geom::Point;
+use crate::raster::Bitmap;
+
+/// Half-width (px) of the window along the normal over which coverage is integrated.
+const HALF_WINDOW: f64 = 2.0;
+/// Number of integration steps on each side of the crack midpoint.
+const WINDOW_STEPS: usize = 8;
+/// A rise (outward) or fall (inward) of coverage by more than this ends the window.
+const MONOTONE_SLACK: f64 = 0.02;
+/// The gradient normal is used when its cosine with the crack normal is at least this (it
+/// may run along the crack, at the tip of a thin sliver, but not back into the foreground).
+const MIN_NORMAL_AGREEMENT: f64 = 0.0;
+/// Largest accepted move (px) of a refined point from its crack midpoint.
+const MAX_SHIFT: f64 = 1.5;
+/// Largest distance (px) across its crack that a refined edge point may lie from the crack
+/// midpoint: with the threshold near half coverage an edge consistent with the two pixels
+/// the crack separates lies within ~0.5 px of it (0.7 px on a diagonal).
+const MAX_CRACK_SHIFT: f64 = 0.75;
+/// Variance (px²) of the blur between the shape and the integrated profile: the pixel's
+/// box filter (1/12) plus bilinear interpolation (1/6).
+const EDGE_BLUR_VARIANCE: f64 = 0.25;
+/// Largest curvature (1/px) used for the curvature-bias correction.
+const MAX_BIAS_CURVATURE: f64 = 0.5;
+/// Arc length (px) to the chord ends of the grey-level corner detector.
+const GREY_CORNER_REACH: f64 = 2.0;
+/// Smallest chord angle (degrees) of a grey-level corner.
+const GREY_CORNER_ANGLE_DEG: f64 = 50.0;
+/// Arc length (px) on each side of a grey-level corner treated as rounded.
+const GREY_CORNER_SKIP: f64 = 1.2;
+/// Arc length (px) of each straight side fitted beyond the rounded part.
+const GREY_CORNER_SIDE: f64 = 3.0;
+/// Largest distance (px) of a side point from its fitted line.
+const GREY_CORNER_RESIDUAL: f64 = 0.08;
+/// Largest distance (px) from the sharpened corner to the rounded outline.
+const GREY_CORNER_MOVE: f64 = 1.0;
+
+/// How the grey-level path places an edge along its normal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum EdgeEstimator {
+    /// s = −h + ∫ f ds over the clipped window (the default).
+    CoverageIntegral,
+    /// Where the bilinear coverage crosses the threshold (kept for the comparison test).
+    #[cfg_attr(not(test), allow(dead_code))]
+    LevelCrossing,
+}
+
+/// Noise level (px, [`outline_noise`]) above which a grey-level outline is traced from its
+/// thresholded pixels instead: clean anti-aliased edges measure 0.005–0.02 px (glyphs at
+/// 64 and 256 px, icons, stress shapes), a bilevel horse saved as a JPEG at quality 30
+/// 0.04 px, photos and scans 0.08–0.15 px.
+pub(super) const NOISE_LIMIT: f64 = 0.03;
+
+/// Robust noise level (px) of an outline: the median of the fourth difference of the
+/// points across the outline (which cancels curves up to cubics), scaled to a standard
+/// deviation (for independent noise σ the fourth difference has deviation σ·√70).
+pub(super) fn outline_noise(points: &[Point]) -> f64 {
+    let n = points.len();
+    if n < 8 {
+        return 0.0;
+    }
+    let at = |k: usize| points[k % n];
+    let mut r: Vec<f64> = (0..n)
+        .filter_map(|i| {
+            let (a, b, c, d, e) = (at(i + n - 2), at(i + n - 1), at(i), at(i + 1), at(i + 2));
+            let normal = unit(d - b)?.perp();
+            let fourth = (a + e) - (b + d) * 4.0 + c * 6.0;
+            Some(fourth.dot(normal).abs())
+        })
+        .collect();
+    if r.is_empty() {
+        return 0.0;
+    }
+    let mid = r.len() / 2;
+    let (_, median, _) = r.select_nth_unstable_by(mid, f64::total_cmp);
+    *median / 0.6745 / 70f64.sqrt()
+}
+
+/// Unit normal pointing down the coverage gradient (towards the background) at a crack,
+/// from a Sobel-like 3×2 stencil on the two pixel rows that the crack separates: the
+/// difference across the crack weighted 1-2-1 along it, and the central difference along
+/// it summed over both rows. Both are per pixel after dividing by 4, so the common factor
+/// is dropped.
+fn gradient_normal(bitmap: &Bitmap, crack: &Crack) -> Option<Point> {
+    let n = crack.normal();
+    let t = n.perp();
+    // Pixel indices of the foreground (inside) and background (outside) pixels.
+    let (ic, ir) = crack.inside();
+    let (nx, ny) = (n.x as i64, n.y as i64);
+    let (tx, ty) = (t.x as i64, t.y as i64);
+    let at = |c: i64, r: i64| f64::from(bitmap.coverage_at(c, r));
+    let (oc, or) = (ic + nx, ir + ny);
+    let across = (at(oc - tx, or - ty) + 2.0 * at(oc, or) + at(oc + tx, or + ty))
+        - (at(ic - tx, ir - ty) + 2.0 * at(ic, ir) + at(ic + tx, ir + ty));
+    let along = (at(ic + tx, ir + ty) + at(oc + tx, or + ty))
+        - (at(ic - tx, ir - ty) + at(oc - tx, or - ty));
+    let g = n * across + t * along;
+    let length = norm(g);
+    (length > 0.0 && length.is_finite()).then(|| -g / length)
+}
+
+/// Moves a crack midpoint to the edge; returns the point and the normal used.
+fn refine_crack(bitmap: &Bitmap, crack: &Crack, estimator: EdgeEstimator) -> (Point, Point) {
+    let n = gradient_normal(bitmap, crack)
+        .filter(|g| g.dot(crack.normal()) >= MIN_NORMAL_AGREEMENT)
+        .unwrap_or(crack.normal());
+    let s = match estimator {
+        EdgeEstimator::CoverageIntegral => Some(integrate_edge(bitmap, crack.mid(), n)),
+        EdgeEstimator::LevelCrossing => level_crossing(bitmap, crack.mid(), n),
+    };
+    match s {
+        // The edge must also stay where the thresholded pixels put it: within
+        // `MAX_CRACK_SHIFT` of the crack midpoint across the crack. Where the coverage is
+        // not a clean step from ink to paper (soft gradients, tinted fills, shading), the
+        // integral can move the edge a pixel or more into a region the mask calls the other
+        // side; the threshold crossing below cannot.
+        Some(s)
+            if s.is_finite()
+                && s.abs() <= MAX_SHIFT
+                && (n * s).dot(crack.normal()).abs() <= MAX_CRACK_SHIFT =>
+        {
+            (crack.mid() + n * s, n)
+        }
+        _ => {
+            // Fall back to the threshold crossing between the two pixel centres.
+            let half = crack.normal() * 0.5;
+            let f_in = bitmap.sample(crack.mid() - half);
+            let f_out = bitmap.sample(crack.mid() + half);
+            let t = bitmap.threshold();
+            let s = if f_in > f_out {
+                ((f_in - t) / (f_in - f_out) - 0.5).clamp(-0.5, 0.5)
+            } else {
+                0.0
+            };
+            (crack.mid() + crack.normal() * s, crack.normal())
+        }
+    }
+}
+
+/// Signed distance from `m` along `n` to the edge by coverage integration: the edge of a
+/// step from 1 to 0 at s = e satisfies ∫₋ₕʰ f ds = e + h.
+fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point) -> f64 {
+    let ds = HALF_WINDOW / WINDOW_STEPS as f64;
+    let f0 = bitmap.sample(m);
+
+    // Outward: ∫₀ʰ f ds, f taken as 0 past its minimum.
+    let mut outward = 0.0;
+    let mut prev = f0;
+    let mut lowest = f0;
+    for j in 1..=WINDOW_STEPS {
+        if prev <= 0.0 {
+            break;
+        }
+        let f = bitmap.sample(m + n * (j as f64 * ds));
+        if f > lowest + MONOTONE_SLACK {
+            break;
+        }
+        outward += 0.5 * (prev + f) * ds;
+        lowest = lowest.min(f);
+        prev = f;
+    }
+
+    // Inward: ∫₋ₕ⁰ f ds, f taken as 1 past its maximum.
+    let mut inward = 0.0;
+    let mut prev = f0;
+    let mut highest = f0;
+    let mut reached = 0.0;
+    for j in 1..=WINDOW_STEPS {
+        if prev >= 1.0 {
+            break;
+        }
+        let f = bitmap.sample(m - n * (j as f64 * ds));
+        if f < highest - MONOTONE_SLACK {
+            // Past the ridge of a stroke thinner than the window: its coverage never
+            // reaches 1, and "1 past the maximum" would put the edge too far out.
+            if let Some(s) = thin_stroke_edge(bitmap, m, n, highest) {
+                return s;
+            }
+            break;
+        }
+        inward += 0.5 * (prev + f) * ds;
+        highest = highest.max(f);
+        prev = f;
+        reached = j as f64 * ds;
+    }
+    inward += HALF_WINDOW - reached;
+    inward + outward - HALF_WINDOW
+}
+
+/// Coverage below which the far side of a thin stroke counts as reached.
+const THIN_STROKE_FLOOR: f64 = 0.04;
+/// Farthest (px) the far side of a thin stroke is looked for, inwards from the crack.
+const THIN_STROKE_REACH: f64 = 3.0;
+
+/// The edge of a stroke too thin for its coverage to reach 1, from its whole profile
+/// along `n`: a box-filtered stroke of width w has ∫ f ds = w whatever the blur, and its
+/// centre at the centroid c of f, so the edge on the `+n` side is at c + w/2. `None` when
+/// the profile does not fall back to paper within `THIN_STROKE_REACH` (a stroke that
+/// widens into a shape) or when the stroke is not faint (peak `highest` near 1).
+fn thin_stroke_edge(bitmap: &Bitmap, m: Point, n: Point, highest: f64) -> Option<f64> {
+    if highest > 0.95 {
+        return None;
+    }
+    let ds = HALF_WINDOW / WINDOW_STEPS as f64;
+    let (mut mass, mut moment) = (0.0, 0.0);
+    // Outwards to paper.
+    let mut s = 0.0;
+    let mut f = bitmap.sample(m);
+    let mut closed_out = false;
+    while s < HALF_WINDOW {
+        let g = bitmap.sample(m + n * (s + ds));
+        mass += 0.5 * (f + g) * ds;
+        moment += 0.5 * (f * s + g * (s + ds)) * ds;
+        s += ds;
+        f = g;
+        if f <= THIN_STROKE_FLOOR {
+            closed_out = true;
+            break;
+        }
+    }
+    // Inwards across the ridge to paper on the far side.
+    let mut s = 0.0;
+    let mut f = bitmap.sample(m);
+    let mut closed_in = false;
+    while s < THIN_STROKE_REACH {
+        let g = bitmap.sample(m - n * (s + ds));
+        mass += 0.5 * (f + g) * ds;
+        moment -= 0.5 * (f * s + g * (s + ds)) * ds;
+        s += ds;
+        f = g;
+        if f <= THIN_STROKE_FLOOR {
+            closed_in = true;
+            break;
+        }
+    }
+    if !(closed_out && closed_in) || mass <= 0.0 {
+        return None;
+    }
+    let centre = moment / mass;
+    Some(centre + 0.5 * mass)
+}
+
+/// Signed distance from `m` along `n` to where the bilinear coverage crosses the threshold,
+/// nearest to `m`.
+fn level_crossing(bitmap: &Bitmap, m: Point, n: Point) -> Option<f64> {
+    let ds = HALF_WINDOW / WINDOW_STEPS as f64;
+    let t = bitmap.threshold();
+    let f0 = bitmap.sample(m);
+    // Walk outward while inside, inward while outside.
+    let dir = if f0 >= t { 1.0 } else { -1.0 };
+    let mut prev = f0;
+    for j in 1..=WINDOW_STEPS {
+        let s = dir * j as f64 * ds;
+        let f = bitmap.sample(m + n * s);
+        if (f >= t) != (f0 >= t) {
+            let frac = (prev - t) / (prev - f);
+            return Some(dir * ((j - 1) as f64 + frac) * ds);
+        }
+        prev = f;
+    }
+    None
+}
+
+impl Workspace {
+    /// Grey-level path: every crack midpoint moved to the edge along its normal.
+    pub(super) fn refined_outline(
+        &mut self,
+        bitmap: &Bitmap,
+        cracks: &[Crack],
+        estimator: EdgeEstimator,
+    ) -> Vec<Point> {
+        self.points.clear();
+        self.tangents.clear();
+        self.anchors.clear();
+        for crack in cracks {
+            let (p, n) = refine_crack(bitmap, crack, estimator);
+            self.points.push(p);
+            // Walking direction, foreground on the right: the normal turned by +90°.
+            self.tangents.push(n.perp());
+            self.anchors.push(false);
+        }
+        self.remove_close_and_backsteps();
+        self.sharpen_rounded_corners();
+        self.correct_curvature_bias();
+        self.mark_turns();
+        self.resample()
+    }
+
+    /// Grey-level path: on a curved edge the coverage integral is biased towards the
+    /// centre of curvature by about v/(2R), v = 1/12 + 1/6 = 1/4 px² being the variance of
+    /// the pixel's box filter plus that of bilinear interpolation (0.010 px for R = 12).
+    /// Each point is moved back by that amount, with R from the circle through the points
+    /// two before and two after it (capped at R ≥ 2 px). Sharpened corners and their
+    /// neighbours are left alone.
+    fn correct_curvature_bias(&mut self) {
+        let n = self.points.len();
+        if n < 5 {
+            return;
+        }
+        self.scratch.clear();
+        self.scratch.extend_from_slice(&self.points);
+        let pts = &self.scratch;
+        for i in 0..n {
+            // Not across a sharpened corner.
+            if (0..5).any(|k| self.anchors[(i + n + k - 2) % n]) {
+                continue;
+            }
+            let (a, b, c) = (pts[(i + n - 2) % n], pts[i], pts[(i + 2) % n]);
+            let denominator = norm(b - a) * norm(c - b) * norm(c - a);
+            if denominator <= 0.0 {
+                continue;
+            }
+            // Signed curvature, positive where the outline turns towards the foreground
+            // (right, on screen); the bias is towards that side.
+            let curvature = (2.0 * (b - a).cross(c - b) / denominator)
+                .clamp(-MAX_BIAS_CURVATURE, MAX_BIAS_CURVATURE);
+            let Some(t) = unit(c - a) else {
+                continue;
+            };
+            // t.perp() points to the foreground side.
+            self.points[i] = b - t.perp() * (0.5 * EDGE_BLUR_VARIANCE * curvature);
+        }
+    }
+
+    /// Grey-level path: anti-aliasing rounds corners off (by up to ~0.6 px for a right
+    /// angle). Where the outline turns by more than `GREY_CORNER_ANGLE_DEG` within a few
+    /// pixels and both sides are straight (residual below `GREY_CORNER_RESIDUAL`) beyond
+    /// the rounded part, the rounded points are replaced by the intersection of the two
+    /// side lines, which becomes an anchor.
+    fn sharpen_rounded_corners(&mut self) {
+        let n = self.points.len();
+        if n < 8 {
+            return;
+        }
+        // Cumulative arc length, and arc length at an unrolled index.
+        self.values.clear();
+        self.values.push(0.0);
+        for i in 0..n {
+            let step = norm(self.points[(i + 1) % n] - self.points[i]);
+            self.values.push(self.values[i] + step);
+        }
+        let total = self.values[n];
+        if total < 4.0 * (GREY_CORNER_SKIP + GREY_CORNER_SIDE) {
+            return;
+        }
+        let nn = n as i64;
+        let walk = ArcWalk {
+            cumulative: &self.values,
+        };
+        let arc = |k: i64| walk.arc(k);
+        let at = |k: i64| self.points[k.rem_euclid(nn) as usize];
+        let back_by = |i: i64, length: f64| walk.back_by(i, length);
+        let ahead_by = |i: i64, length: f64| walk.ahead_by(i, length);
+        // Chord angle at every point (two pointers).
+        let mut angles = std::mem::take(&mut self.angles);
+        angles.clear();
+        let mut chord_ends = std::mem::take(&mut self.chord_ends);
+        chord_ends.clear();
+        let (mut b, mut a) = (
+            back_by(0, GREY_CORNER_REACH),
+            ahead_by(0, GREY_CORNER_REACH),
+        );
+        for i in 0..nn {
+            while arc(i) - arc(b + 1) >= GREY_CORNER_REACH {
+                b += 1;
+            }
+            if a <= i {
+                a = i + 1;
+            }
+            while a < i + nn && arc(a) - arc(i) < GREY_CORNER_REACH {
+                a += 1;
+            }
+            angles.push(turn_angle(at(i) - at(b), at(a) - at(i)));
+            chord_ends.push((b, a));
+        }
+        let min = GREY_CORNER_ANGLE_DEG.to_radians();
+        let angle_at = |k: i64| angles[k.rem_euclid(nn) as usize];
+        // (first removed unrolled index, removed count, new point)
+        let mut edits: Vec<(i64, i64, Point)> = Vec::new();
+        let mut last_end = i64::MIN;
+        for i in 0..nn {
+            let ai = angles[i as usize];
+            let (b, a) = chord_ends[i as usize];
+            let is_max = ai >= min
+                && (b + 1..i).all(|k| ai > angle_at(k))
+                && (i + 1..a).all(|k| ai >= angle_at(k));
+            if !is_max {
+                continue;
+            }
+            let inner_back = back_by(i, GREY_CORNER_SKIP);
+            // A side never reaches into the rounded part of the previous corner.
+            let outer_back = back_by(i, GREY_CORNER_SKIP + GREY_CORNER_SIDE).max(last_end);
+            let inner_ahead = ahead_by(i, GREY_CORNER_SKIP);
+            let outer_ahead = ahead_by(i, GREY_CORNER_SKIP + GREY_CORNER_SIDE);
+            if inner_back - outer_back < 2
+                || outer_ahead - inner_ahead < 2
+                || outer_ahead - outer_back >= nn
+            {
+                continue;
+            }
+            let back_line = fit_line((outer_back..=inner_back).map(at));
+            let ahead_line = fit_line((inner_ahead..=outer_ahead).map(at));
+            let (Some((la, ra)), Some((lb, rb))) = (back_line, ahead_line) else {
+                continue;
+            };
+            if ra > GREY_CORNER_RESIDUAL || rb > GREY_CORNER_RESIDUAL {
+                continue;
+            }
+            let Some(x) = intersect(la, lb) else {
+                continue;
+            };
+            if distance_to_closed_polyline(x, &self.points) > GREY_CORNER_MOVE {
+                continue;
+            }
+            // Replace the points strictly between the two inner side points.
+            edits.push((inner_back + 1, inner_ahead - inner_back - 1, x));
+            last_end = inner_ahead;
+        }
+        // The last edit must not overlap the first one across the closing joint.
+        if edits.len() > 1 {
+            let (first_start, _, _) = edits[0];
+            let (last_start, last_count, _) = edits[edits.len() - 1];
+            if last_start + last_count > first_start + nn {
+                edits.pop();
+            }
+        }
+        self.angles = angles;
+        self.chord_ends = chord_ends;
+        if edits.is_empty() {
+            return;
+        }
+        let (remove, insert_at) = mark_edits(&edits, n);
+        self.scratch.clear();
+        self.scratch_tangents.clear();
+        let mut anchors = Vec::with_capacity(n);
+        for j in 0..n {
+            if let Some(x) = insert_at[j] {
+                self.scratch.push(x);
+                self.scratch_tangents.push(self.tangents[j]);
+                anchors.push(true);
+            }
+            if !remove[j] {
+                self.scratch.push(self.points[j]);
+                self.scratch_tangents.push(self.tangents[j]);
+                anchors.push(self.anchors[j]);
+            }
+        }
+        std::mem::swap(&mut self.points, &mut self.scratch);
+        std::mem::swap(&mut self.tangents, &mut self.scratch_tangents);
+        self.anchors = anchors;
+    }
+}
