@@ -1,6 +1,7 @@
 //! Curve types. Rational cubic Bézier segments are the fitting primitive; polynomial
 //! cubics are what SVG can draw.
 
+pub mod approx;
 pub mod basis;
 pub mod cubic;
 pub mod power;
@@ -8,5 +9,6 @@ pub mod rational;
 pub mod sg_bezier;
 pub mod wang_ball;
 
-pub use cubic::{approximate_with_cubics, CubicBez};
+pub use approx::approximate_with_cubics;
+pub use cubic::CubicBez;
 pub use rational::{bernstein, rational_basis, RationalCubic};

@@ -9,7 +9,7 @@
 //! their own path.
 //!
 //! SVG cannot draw rational curves, so each rational segment goes through
-//! [`approximate_with_cubics`](crate::curve::cubic::approximate_with_cubics) with [`SvgOptions::bound`]: polynomial segments are written
+//! [`approximate_with_cubics`](crate::curve::approx::approximate_with_cubics) with [`SvgOptions::bound`]: polynomial segments are written
 //! exactly, rational ones as one or more cubics whose measured distance to the rational
 //! curve is within the bound, and G1 joints stay G1. The exact rational data belongs in the
 //! JSON report.
@@ -25,7 +25,7 @@
 //! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
 //! would be filled). Contours without segments have nothing to draw and are skipped.
 
-use crate::curve::cubic::{drawing_bound, DEFAULT_DRAWING_BOUND};
+use crate::curve::approx::{drawing_bound, DEFAULT_DRAWING_BOUND};
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::Point;

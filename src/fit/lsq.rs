@@ -21,7 +21,7 @@ use super::solve::{
 };
 use super::{DrawnCubics, FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::{arc_lengths, SegmentedContour};
-use crate::curve::cubic::drawing_bound;
+use crate::curve::approx::drawing_bound;
 use crate::curve::{approximate_with_cubics, CubicBez};
 use crate::geom::{angle_between, cyclic_run, segment_distance, Point};
 use std::time::Instant;
