@@ -1,0 +1,307 @@
+//! One segment fitted from its points and end conditions: start grid, weight search,
+//! reprojection, straight runs and the polish, and the error measures of the result.
+
+use super::model::run_scale;
+use super::model::EndCondition;
+use super::model::FitSettings;
+use super::model::LinearModel;
+use super::model::SegmentSolution;
+use super::model::WEIGHT_RANGE;
+use super::polish::orthogonal_objective;
+use super::polish::polish;
+use super::weights::follow_valley;
+use super::weights::grid_starts;
+use super::weights::search_weights;
+use super::weights::strided;
+use crate::curve::power::EXACT_STEP;
+use crate::curve::rational::nearest_sample;
+use crate::curve::rational::RationalCubic;
+use crate::fit::SegmentError;
+use crate::geom::Point;
+use crate::param::centripetal_parameters;
+use crate::param::parameters_into;
+
+/// Fits one segment: centripetal parameters, weight search with least-squares control
+/// points, parameter correction, then a Levenberg–Marquardt polish of the orthogonal
+/// distances. `points` holds the data in order; its first and last points are the end
+/// points C0 and C3. Needs at least 2 points; with 2 the result is the straight segment.
+pub fn fit_segment(
+    points: &[Point],
+    start: EndCondition,
+    end: EndCondition,
+    settings: &FitSettings,
+) -> SegmentSolution {
+    fit_segment_from(points, start, end, settings, None)
+}
+
+/// [`fit_segment`] started from given data parameters (one per point, increasing from 0
+/// to 1, e.g. the feet of the points on an earlier fit of the same run) instead of the
+/// rules of `settings.initial`: close parameters need fewer correction rounds.
+pub fn fit_segment_from(
+    points: &[Point],
+    start: EndCondition,
+    end: EndCondition,
+    settings: &FitSettings,
+    warm: Option<&[f64]>,
+) -> SegmentSolution {
+    let mut params = centripetal_parameters(points);
+    if points.len() < 3 {
+        let (c0, c3) = (points[0], points[points.len() - 1]);
+        let curve = straight_segment(c0, c3, start, end);
+        return SegmentSolution {
+            curve,
+            params,
+            evaluations: 0,
+        };
+    }
+    let any_free = matches!(start, EndCondition::Free) || matches!(end, EndCondition::Free);
+    if points.len() == 3 && any_free {
+        // One interior point cannot determine a free handle (two unknowns each): the
+        // normal equations are singular and their solution arbitrary (a loop far from
+        // the points). Take the nearest curve to the straight one through the point.
+        let curve = bent_straight_segment(points, params[1], start, end);
+        return SegmentSolution {
+            curve,
+            params,
+            evaluations: 1,
+        };
+    }
+    let centripetal = params.clone();
+    let scale = run_scale(points);
+    let mut evaluations = 0;
+    let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
+    let inits: Vec<Vec<f64>> = match warm.filter(|w| w.len() == points.len()) {
+        Some(w) => vec![w.to_vec()],
+        None => settings
+            .initial
+            .iter()
+            .map(|&rule| {
+                let mut p = Vec::with_capacity(points.len());
+                parameters_into(points, rule, &mut p);
+                p
+            })
+            .collect(),
+    };
+    // The weight search evaluates every `stride`-th point (and the last) of a long run.
+    let stride = match settings.search_points {
+        Some(m) if !settings.fixed_weights() => (points.len() / m.max(2)).max(1),
+        _ => 1,
+    };
+    let search_points = (stride > 1).then(|| strided(points, stride));
+    let search_model = |params: &[f64]| {
+        search_points.as_deref().map(|subset| {
+            LinearModel::with_scale(subset, &strided(params, stride), start, end, scale)
+        })
+    };
+    for initial in inits {
+        if settings.fixed_weights() {
+            runs.push((initial.clone(), [settings.weight_range.0; 2]));
+            continue;
+        }
+        let model = search_model(&initial)
+            .unwrap_or_else(|| LinearModel::with_scale(points, &initial, start, end, scale));
+        let (starts, ev) = grid_starts(&model, settings.weight_range, settings.starts.max(1));
+        evaluations += ev;
+        runs.extend(starts.into_iter().map(|w| (initial.clone(), w)));
+    }
+    let mut best: Option<(RationalCubic, Vec<f64>, f64)> = None;
+    // With one run there is nothing to choose between: its objective (one more projection
+    // of every point) is not needed.
+    let single = runs.len() == 1;
+    for (initial_params, w0) in runs {
+        params.copy_from_slice(&initial_params);
+        let mut weights = w0;
+        let mut curve;
+        let mut round = 0;
+        loop {
+            let model = LinearModel::with_scale(points, &params, start, end, scale);
+            if !settings.fixed_weights() {
+                // Later rounds only adjust: the parameters moved a little.
+                let step = if round == 0 { 0.5 } else { 0.1 };
+                let coarse = search_model(&params);
+                let searched = coarse.as_ref().unwrap_or(&model);
+                let (w, _, ev) =
+                    search_weights(searched, settings.weight_range, weights, step, 0.02);
+                evaluations += ev;
+                weights = w;
+            }
+            let (z, _) = model.solve(weights);
+            evaluations += 1;
+            curve = model.curve(&z, weights);
+            if round >= settings.reparam_rounds {
+                break;
+            }
+            reproject(&curve, points, &mut params);
+            round += 1;
+        }
+        // Leave the parameters at the feet of the points, so that residuals are distances.
+        reproject(&curve, points, &mut params);
+        if settings.polish_iterations > 0 {
+            let model = LinearModel::with_scale(points, &params, start, end, scale);
+            let (polished, ev) = polish(&model, curve, &mut params, settings);
+            curve = polished;
+            evaluations += ev;
+        }
+        if single {
+            best = Some((curve, params, 0.0));
+            break;
+        }
+        let obj = orthogonal_objective(&curve, points, &mut params);
+        if best.as_ref().is_none_or(|b| obj < b.2) {
+            best = Some((curve, params.clone(), obj));
+        }
+    }
+    let (curve, params, _) = best.unwrap_or_else(|| {
+        (
+            straight_segment(points[0], points[points.len() - 1], start, end),
+            centripetal,
+            0.0,
+        )
+    });
+    SegmentSolution {
+        curve,
+        params,
+        evaluations,
+    }
+}
+
+/// The least-squares optimum at fixed parameters: weights by a grid and a fine compass
+/// search (to a step of 1e-4 in log-space), control points solved exactly for each. This is
+/// the reference a metaheuristic searching the same space is compared with. Returns the
+/// curve and its Eq. 4 error.
+pub fn optimum_at_fixed_params(
+    points: &[Point],
+    params: &[f64],
+    start: EndCondition,
+    end: EndCondition,
+) -> (RationalCubic, f64) {
+    if points.len() < 3 {
+        return (
+            straight_segment(points[0], points[points.len() - 1], start, end),
+            0.0,
+        );
+    }
+    let model = LinearModel::new(points, params, start, end);
+    let (starts, _) = grid_starts(&model, WEIGHT_RANGE, 3);
+    let mut best = ([1.0, 1.0], f64::INFINITY);
+    for w0 in starts {
+        let (w, e, _) = search_weights(&model, WEIGHT_RANGE, w0, 0.5, 1e-4);
+        let (w, e) = follow_valley(&model, w, e);
+        if e < best.1 {
+            best = (w, e);
+        }
+    }
+    let (z, e) = model.solve(best.0);
+    (model.curve(&z, best.0), e)
+}
+
+/// A straight segment honouring the end conditions as well as it can.
+fn straight_segment(c0: Point, c3: Point, start: EndCondition, end: EndCondition) -> RationalCubic {
+    let third = c0.distance(c3) / 3.0;
+    let c1 = match start {
+        EndCondition::Free => c0.lerp(c3, 1.0 / 3.0),
+        EndCondition::Tangent(t) => c0 + t * third.max(1e-9),
+    };
+    let c2 = match end {
+        EndCondition::Free => c0.lerp(c3, 2.0 / 3.0),
+        EndCondition::Tangent(t) => c3 - t * third.max(1e-9),
+    };
+    RationalCubic::new([c0, c1, c2, c3], [1.0, 1.0])
+}
+
+/// The cubic through three points (the middle one at parameter `u`) whose inner control
+/// points are nearest to those of the straight segment (chord thirds, or along the given
+/// tangents): the least-norm change of the handles that moves the curve at `u` onto the
+/// middle point. A free handle moves in any direction, a tangent handle only along its
+/// tangent.
+fn bent_straight_segment(
+    points: &[Point],
+    u: f64,
+    start: EndCondition,
+    end: EndCondition,
+) -> RationalCubic {
+    let (c0, c3) = (points[0], points[points.len() - 1]);
+    let straight = straight_segment(c0, c3, start, end);
+    let [_, c1, c2, _] = straight.points;
+    let v = 1.0 - u;
+    let basis = [3.0 * u * v * v, 3.0 * u * u * v];
+    let conditions = [start, end];
+    let miss = points[1] - straight.eval(u);
+    // M = Σ b² P over the handles, P the identity (free) or t tᵀ (tangent).
+    let mut m = [[0.0; 2]; 2];
+    for (b, c) in basis.iter().zip(conditions) {
+        let p = match c {
+            EndCondition::Free => [[1.0, 0.0], [0.0, 1.0]],
+            EndCondition::Tangent(t) => [[t.x * t.x, t.x * t.y], [t.x * t.y, t.y * t.y]],
+        };
+        for (row, prow) in m.iter_mut().zip(p) {
+            for (e, pe) in row.iter_mut().zip(prow) {
+                *e += b * b * pe;
+            }
+        }
+    }
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    if det.abs() < 1e-18 {
+        return straight;
+    }
+    let lambda = Point::new(
+        (m[1][1] * miss.x - m[0][1] * miss.y) / det,
+        (m[0][0] * miss.y - m[1][0] * miss.x) / det,
+    );
+    let shift = |b: f64, c: EndCondition| match c {
+        EndCondition::Free => lambda * b,
+        EndCondition::Tangent(t) => t * (b * t.dot(lambda)),
+    };
+    RationalCubic::new(
+        [
+            c0,
+            c1 + shift(basis[0], start),
+            c2 + shift(basis[1], end),
+            c3,
+        ],
+        [1.0, 1.0],
+    )
+}
+
+/// Moves every interior parameter to the foot of its point on the curve (local Newton).
+fn reproject(curve: &RationalCubic, points: &[Point], params: &mut [f64]) {
+    let n = points.len();
+    let power = curve.power_form();
+    for i in 1..n.saturating_sub(1) {
+        params[i] = power.project_quick(points[i], params[i], 3);
+    }
+}
+
+/// Error measures of `curve` against `points` with parameters `params`: Eq. 4 at the given
+/// parameters, and point-to-curve distances by global projection (a scan of the curve
+/// followed by Newton), so a poor parameter cannot hide or inflate a distance.
+pub fn segment_error(curve: &RationalCubic, points: &[Point], params: &[f64]) -> SegmentError {
+    let n = points.len().max(1);
+    let mut sum_sq = 0.0;
+    let mut max_d: f64 = 0.0;
+    let mut sum_d = 0.0;
+    const SAMPLES: usize = 24;
+    let scan = curve.scan(SAMPLES);
+    let power = curve.power_form();
+    for (q, &u) in points.iter().zip(params) {
+        sum_sq += (curve.eval(u) - *q).length_squared();
+        let (foot, local) = power.refine_projection(*q, u, EXACT_STEP);
+        // The global search refines from the scan's nearest sample; when that sample is
+        // next to the local foot, it lies in the same basin and would find the same foot.
+        let start = nearest_sample(scan.iter().copied(), *q);
+        let d = if start.abs_diff((foot * SAMPLES as f64).round() as usize) <= 1 {
+            local
+        } else {
+            let global = power.refine_projection(*q, start as f64 / SAMPLES as f64, EXACT_STEP);
+            local.min(global.1)
+        };
+        max_d = max_d.max(d);
+        sum_d += d;
+    }
+    SegmentError {
+        sum_sq,
+        rmse: (sum_sq / n as f64).sqrt(),
+        max_distance: max_d,
+        mean_distance: sum_d / n as f64,
+    }
+}

@@ -1,0 +1,144 @@
+use super::*;
+use crate::curve::rational::RationalCubic;
+use crate::geom::Point;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn sample_curve(c: &RationalCubic, n: usize) -> Vec<Point> {
+    (0..n).map(|i| c.eval(i as f64 / (n - 1) as f64)).collect()
+}
+
+fn max_dist_to(c: &RationalCubic, pts: &[Point]) -> f64 {
+    pts.iter().map(|q| c.nearest(*q, 64).1).fold(0.0, f64::max)
+}
+
+#[test]
+fn random_rational_cubics_are_recovered_with_free_ends() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    for trial in 0..50 {
+        let pts = [
+            Point::new(0.0, 0.0),
+            Point::new(rng.random_range(5.0..25.0), rng.random_range(10.0..40.0)),
+            Point::new(rng.random_range(35.0..55.0), rng.random_range(10.0..40.0)),
+            Point::new(60.0, rng.random_range(-5.0..5.0)),
+        ];
+        let w = [rng.random_range(0.2..2.5), rng.random_range(0.2..2.5)];
+        let truth = RationalCubic::new(pts, w);
+        let data = sample_curve(&truth, 200);
+        let sol = fit_segment(
+            &data,
+            EndCondition::Free,
+            EndCondition::Free,
+            &FitSettings::thorough(),
+        );
+        let err = max_dist_to(&sol.curve, &data);
+        assert!(
+            err < 1e-6,
+            "trial {trial}: weights {w:?} → {:?}, max distance {err}",
+            sol.curve.weights
+        );
+    }
+}
+
+#[test]
+fn tangent_constraints_are_exact_and_recover_the_curve() {
+    let truth = RationalCubic::new(
+        [
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 20.0),
+            Point::new(40.0, 25.0),
+            Point::new(50.0, 0.0),
+        ],
+        [1.7, 0.45],
+    );
+    let t0 = truth.start_tangent().unwrap();
+    let t3 = truth.end_tangent().unwrap();
+    let data = sample_curve(&truth, 120);
+    let sol = fit_segment(
+        &data,
+        EndCondition::Tangent(t0),
+        EndCondition::Tangent(t3),
+        &FitSettings::thorough(),
+    );
+    let got0 = sol.curve.start_tangent().unwrap();
+    let got3 = sol.curve.end_tangent().unwrap();
+    assert!(crate::geom::angle_between(got0, t0) < 1e-12);
+    assert!(crate::geom::angle_between(got3, t3) < 1e-12);
+    assert!(max_dist_to(&sol.curve, &data) < 1e-6);
+    assert!(
+        (sol.curve.weights[0] - 1.7).abs() < 1e-5,
+        "{:?}",
+        sol.curve.weights
+    );
+}
+
+#[test]
+fn linear_solve_is_exact_at_true_parameters_and_weights() {
+    let truth = RationalCubic::new(
+        [
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 9.0),
+            Point::new(8.0, 7.5),
+            Point::new(11.0, 1.0),
+        ],
+        [0.3, 2.1],
+    );
+    let params: Vec<f64> = (0..30).map(|i| (i as f64 / 29.0).powf(1.3)).collect();
+    let data: Vec<Point> = params.iter().map(|&u| truth.eval(u)).collect();
+    let (c, e) = solve_control_points(
+        &data,
+        &params,
+        EndCondition::Free,
+        EndCondition::Free,
+        [0.3, 2.1],
+    );
+    assert!(e < 1e-20);
+    assert!(c.points[1].distance(truth.points[1]) < 1e-9);
+    assert!(c.points[2].distance(truth.points[2]) < 1e-9);
+}
+
+/// Three points between two corners (a serif's short flat end) used to give an
+/// arbitrary solution of a singular system: a loop 2.4 px out from the points.
+#[test]
+fn three_points_with_a_free_end_give_a_curve_through_them_without_a_loop() {
+    let points = [
+        Point::new(32.986_531, 38.173_453),
+        Point::new(33.011_039, 37.447_736),
+        Point::new(33.113_380, 35.928_570),
+    ];
+    let tangent = Point::new(1.0, 0.0);
+    for (start, end) in [
+        (EndCondition::Free, EndCondition::Free),
+        (EndCondition::Free, EndCondition::Tangent(tangent)),
+        (
+            EndCondition::Tangent(Point::new(0.0, -1.0)),
+            EndCondition::Free,
+        ),
+    ] {
+        let sol = fit_segment(&points, start, end, &FitSettings::polynomial());
+        let c = sol.curve;
+        assert!(
+            c.eval(sol.params[1]).distance(points[1]) < 1e-9,
+            "{start:?} {end:?}"
+        );
+        assert_eq!((c.eval(0.0), c.eval(1.0)), (points[0], points[2]));
+        if let EndCondition::Tangent(t) = end {
+            let arrival = (c.points[3] - c.points[2]).normalized().unwrap();
+            assert!(arrival.cross(t).abs() < 1e-12, "{start:?} {end:?}");
+        }
+        if let EndCondition::Tangent(t) = start {
+            let leaving = (c.points[1] - c.points[0]).normalized().unwrap();
+            assert!(leaving.cross(t).abs() < 1e-12, "{start:?} {end:?}");
+        }
+        // Nothing of the curve strays from the points by more than the chord's length.
+        let chord = points[0].distance(points[2]);
+        let far = (0..=100)
+            .map(|i| {
+                let p = c.eval(i as f64 / 100.0);
+                crate::geom::segment_distance(p, points[0], points[1])
+                    .min(crate::geom::segment_distance(p, points[1], points[2]))
+            })
+            .fold(0.0, f64::max);
+        assert!(far < 0.5 * chord, "{start:?} {end:?}: {far}");
+    }
+}
