@@ -43,9 +43,10 @@
 //! ## Features
 //!
 //! Without default features the crate is the tracer alone (every stage above, the SVG
-//! writer and the reports). `lab` adds `compare`, `stats` and `plot` (`plotters`);
-//! `papers` adds `bspline`, `reduce` and `surface` (and `lab`; `exmex`); `cli`, the default,
-//! builds the `outlinefit` program (`clap`, `indicatif`, `anyhow`, `ctrlc`) with both.
+//! writer and the reports). `lab` adds `compare` (its charts in `compare::plot`) and
+//! `stats` (`plotters`); `papers` adds `bspline`, `reduce` and `surface` (and `lab`;
+//! `exmex`); `cli`, the default, builds the `outlinefit` program (`clap`, `indicatif`,
+//! `anyhow`, `ctrlc`) with both.
 
 pub mod breaks;
 #[cfg(feature = "papers")]
@@ -64,8 +65,6 @@ pub mod io;
 pub mod merge;
 pub mod optim;
 pub mod param;
-#[cfg(feature = "lab")]
-pub mod plot;
 pub mod quad;
 pub mod raster;
 #[cfg(feature = "papers")]

@@ -11,6 +11,7 @@
 //! normality, F-tests, Welch t-tests, one-way ANOVA), and [`output`] writes them.
 
 pub mod output;
+pub mod plot;
 
 use crate::error::{Error, Result};
 use crate::fit::meta::{reference_errors, MetaOptions, Search};

@@ -1,10 +1,10 @@
 //! Writing a comparison: `summary.md`, `summary.csv`, `segments.csv`, `stats.json` and
 //! three SVG charts per image, all written atomically.
 
+use super::plot::{self, ConvergenceSeries};
 use super::{CompareOptions, ImageComparison, ImageStats, Outcome};
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
-use crate::plot::{self, ConvergenceSeries};
 use crate::report::csv_document;
 use serde::Serialize;
 use std::fmt::Write as _;

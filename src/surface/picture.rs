@@ -2,7 +2,7 @@
 //! surface's wireframe in a 3-D chart (plotters), as SVG.
 
 use super::{BezierSurface, P3};
-use crate::plot::PlotError;
+use crate::compare::plot::PlotError;
 use plotters::prelude::*;
 
 /// Iso-parameter lines drawn in each direction.
