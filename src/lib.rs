@@ -62,6 +62,7 @@ pub mod fit;
 mod frames;
 pub mod geom;
 pub mod io;
+mod linalg;
 pub mod merge;
 pub mod optim;
 pub mod param;

@@ -5,6 +5,7 @@
 use crate::curve::rational::bernstein;
 use crate::curve::rational::RationalCubic;
 use crate::geom::Point;
+use crate::linalg::solve_rank_tolerant;
 use crate::param::Parameterization;
 
 /// What is known about one end of a segment.
@@ -432,42 +433,7 @@ fn solve_with_fixed(
         m[j][j] += ridge;
         m[j][4] = rhs;
     }
-    solve_dense(&mut m, n)
-}
-
-/// Gaussian elimination with partial pivoting on an augmented n × (n+1) matrix.
-fn solve_dense(m: &mut [[f64; 5]; 4], n: usize) -> [f64; 4] {
-    for col in 0..n {
-        let mut piv = col;
-        for row in col + 1..n {
-            if m[row][col].abs() > m[piv][col].abs() {
-                piv = row;
-            }
-        }
-        m.swap(col, piv);
-        let p = m[col][col];
-        if p.abs() < 1e-300 {
-            continue;
-        }
-        for row in col + 1..n {
-            let f = m[row][col] / p;
-            if f != 0.0 {
-                for k in col..5 {
-                    m[row][k] -= f * m[col][k];
-                }
-            }
-        }
-    }
-    let mut z = [0.0; 4];
-    for row in (0..n).rev() {
-        let mut s = m[row][4];
-        for k in row + 1..n {
-            s -= m[row][k] * z[k];
-        }
-        let p = m[row][row];
-        z[row] = if p.abs() < 1e-300 { 0.0 } else { s / p };
-    }
-    z
+    solve_rank_tolerant(&mut m, n)
 }
 
 /// Control points C1, C2 for fixed weights and fixed parameters, by linear least squares

@@ -6,6 +6,7 @@ use super::model::LinearModel;
 use crate::curve::rational::bernstein;
 use crate::curve::rational::RationalCubic;
 use crate::geom::Point;
+use crate::linalg::{solve_augmented, Singular};
 
 /// Sum of squared point-to-curve distances, re-projecting parameters from their current
 /// values.
@@ -114,7 +115,12 @@ pub(super) fn polish(
             for c in 0..nv {
                 m[c][c] += mu * m[c][c].abs().max(1e-18);
             }
-            let Some(delta) = solve6(&m, &g, nv) else {
+            let mut system = [[0.0; 7]; 6];
+            for i in 0..nv {
+                system[i][..nv].copy_from_slice(&m[i][..nv]);
+                system[i][6] = g[i];
+            }
+            let Some(delta) = solve_augmented(&mut system, nv, Singular::Fail) else {
                 break;
             };
             let mut z_new = z;
@@ -172,41 +178,4 @@ pub(super) fn polish(
         }
     }
     (curve, evals)
-}
-
-/// Gaussian elimination for the (≤ 6) × (≤ 6) LM system; `None` if singular.
-fn solve6(a: &[[f64; 6]; 6], b: &[f64; 6], n: usize) -> Option<[f64; 6]> {
-    let mut m = [[0.0; 7]; 6];
-    for i in 0..n {
-        m[i][..n].copy_from_slice(&a[i][..n]);
-        m[i][6] = b[i];
-    }
-    for col in 0..n {
-        let mut piv = col;
-        for row in col + 1..n {
-            if m[row][col].abs() > m[piv][col].abs() {
-                piv = row;
-            }
-        }
-        m.swap(col, piv);
-        let p = m[col][col];
-        if p.is_nan() || p.abs() <= 1e-300 {
-            return None;
-        }
-        for row in col + 1..n {
-            let f = m[row][col] / p;
-            for k in col..7 {
-                m[row][k] -= f * m[col][k];
-            }
-        }
-    }
-    let mut x = [0.0; 6];
-    for row in (0..n).rev() {
-        let mut s = m[row][6];
-        for k in row + 1..n {
-            s -= m[row][k] * x[k];
-        }
-        x[row] = s / m[row][row];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }
