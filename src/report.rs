@@ -10,7 +10,8 @@
 use crate::fit::{FittedContour, JointKind};
 use crate::geom::Point;
 use crate::merge::outline::MergedCurve;
-use crate::{Config, TraceResult, VERSION};
+use crate::trace::{Config, TraceResult};
+use crate::VERSION;
 use serde::Serialize;
 
 /// Totals over one traced image.
@@ -132,7 +133,7 @@ struct ContourRow<'a> {
 #[derive(Serialize)]
 struct ImageRow<'a> {
     path: &'a str,
-    image: &'a crate::ImageInfo,
+    image: &'a crate::trace::ImageInfo,
     summary: Summary,
     fidelity: &'a crate::Fidelity,
     seconds: f64,

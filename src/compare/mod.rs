@@ -19,7 +19,7 @@ use crate::fit::refit::fit_contour;
 use crate::fit::Method;
 use crate::optim::Algorithm;
 use crate::stats::{self, Anova, Describe, FTest, Normality, TTest};
-use crate::{trace_file, Config};
+use crate::trace::{trace_file, Config};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};

@@ -35,7 +35,7 @@ use super::svg::{
 use crate::fit::JointKind;
 use crate::geom::Point;
 use crate::merge::picture::envelope;
-use crate::TraceResult;
+use crate::trace::TraceResult;
 use base64::Engine as _;
 use image::ImageEncoder as _;
 use std::fmt::Write as _;

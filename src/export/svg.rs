@@ -30,7 +30,7 @@ use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::Point;
 use crate::merge::outline::{drawing_pieces, MergedCurve};
-use crate::TraceResult;
+use crate::trace::TraceResult;
 use std::fmt::Write as _;
 
 /// Largest number of decimals written; more would only print floating-point noise.
@@ -417,7 +417,7 @@ pub(crate) mod tests {
     use super::*;
     use crate::curve::{approximate_with_cubics, RationalCubic};
     use crate::fit::{FittedSegment, Joint, JointKind, SegmentError};
-    use crate::ImageInfo;
+    use crate::trace::ImageInfo;
     use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_4, SQRT_2};
 
     /// A quarter circle as an exact rational cubic (degree-elevated conic, w = cos 45°).
