@@ -9,7 +9,7 @@ use super::lines::turn_angle;
 use super::lines::unit;
 use super::lines::ArcWalk;
 use super::mask::Crack;
-use super::spikes::mark_edits;
+use super::spikes::{drop_wrapping_edit, mark_edits};
 use super::workspace::Workspace;
 use crate::geom::distance_to_closed_polyline;
 use crate::geom::Point;
@@ -429,14 +429,7 @@ impl Workspace {
             edits.push((inner_back + 1, inner_ahead - inner_back - 1, x));
             last_end = inner_ahead;
         }
-        // The last edit must not overlap the first one across the closing joint.
-        if edits.len() > 1 {
-            let (first_start, _, _) = edits[0];
-            let (last_start, last_count, _) = edits[edits.len() - 1];
-            if last_start + last_count > first_start + nn {
-                edits.pop();
-            }
-        }
+        drop_wrapping_edit(&mut edits, nn);
         self.angles = angles;
         self.chord_ends = chord_ends;
         if edits.is_empty() {

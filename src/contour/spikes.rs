@@ -196,13 +196,7 @@ pub(super) fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         edits.push((inner_back + 1, inner_ahead - inner_back - 1, x));
         last_end = inner_ahead;
     }
-    if edits.len() > 1 {
-        let (first_start, _, _) = edits[0];
-        let (last_start, last_count, _) = edits[edits.len() - 1];
-        if last_start + last_count > first_start + nn {
-            edits.pop();
-        }
-    }
+    drop_wrapping_edit(&mut edits, nn);
     if edits.is_empty() {
         return;
     }
@@ -217,6 +211,17 @@ pub(super) fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
         }
     }
     *points = out;
+}
+
+/// Drops the last of the edits (first replaced unrolled index, count, new point) of a
+/// closed outline of `n` points when it would overlap the first one across the closing
+/// joint.
+pub(super) fn drop_wrapping_edit(edits: &mut Vec<(i64, i64, Point)>, n: i64) {
+    if let [(first_start, _, _), .., (last_start, last_count, _)] = edits[..] {
+        if last_start + last_count > first_start + n {
+            edits.pop();
+        }
+    }
 }
 
 /// For edits (first replaced unrolled index, count, new point) of a closed outline of `n`
