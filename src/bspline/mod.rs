@@ -48,6 +48,24 @@ use serde::Serialize;
 /// Name of the baseline that places the auxiliary samples evenly instead of optimising.
 pub const UNIFORM: &str = "uniform";
 
+/// Default number of samples (the ends, the feature points and auxiliary samples).
+pub const DEFAULT_SAMPLES: usize = 20;
+
+/// Default number of control points of the B-spline.
+pub const DEFAULT_CONTROL_POINTS: usize = 6;
+
+/// Default order (degree + 1: cubic).
+pub const DEFAULT_ORDER: usize = 4;
+
+/// Default placement of the auxiliary samples: fireworks, the paper's.
+pub const DEFAULT_METHOD: &str = "fwa";
+
+/// Default objective evaluations of the sample placement.
+pub const DEFAULT_BUDGET: u64 = 3000;
+
+/// Default grid intervals of the curvature scan for feature points.
+pub const DEFAULT_GRID: usize = 1000;
+
 /// Largest accepted `samples` (each objective evaluation fits all of them).
 pub const MAX_SAMPLES: usize = 10_000;
 

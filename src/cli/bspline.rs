@@ -4,7 +4,7 @@
 use super::args::whole;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
-use outlinefit::bspline::{convert, svg, ConvertOptions, FitTarget, ParametricCurve};
+use outlinefit::bspline::{self as bs, convert, svg, ConvertOptions, FitTarget, ParametricCurve};
 use outlinefit::io::write_atomic;
 use outlinefit::Error;
 use std::io::Write;
@@ -25,18 +25,18 @@ pub(crate) struct BsplineArgs {
     range: String,
     /// Number of samples: the two ends, every feature point, and auxiliary samples placed
     /// by --method.
-    #[arg(long, default_value_t = 20, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = bs::DEFAULT_SAMPLES, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     samples: usize,
     /// Number of control points of the B-spline (at least --order, at most --samples).
-    #[arg(long, default_value_t = 6, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = bs::DEFAULT_CONTROL_POINTS, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     control_points: usize,
     /// Order of the B-spline (degree + 1; 4 is cubic).
-    #[arg(long, default_value_t = 4, value_name = "K", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = bs::DEFAULT_ORDER, value_name = "K", allow_negative_numbers = true, value_parser = whole::<usize>)]
     order: usize,
     /// How the auxiliary samples are placed: fwa (fireworks, the paper's), any other
     /// optimizer (hs, ga, pso, gwo, cs, ics, so, beeso, de), or uniform (evenly spaced,
     /// no search). Optimizers minimise the spline's dense RMSE against the curve.
-    #[arg(long, default_value = "fwa", value_name = "NAME")]
+    #[arg(long, default_value = bs::DEFAULT_METHOD, value_name = "NAME")]
     method: String,
     /// What the control points are fitted to: curve (least squares against the true curve
     /// at the 1000 dense parameters, minimising the dense error for the samples' knots) or
@@ -45,13 +45,13 @@ pub(crate) struct BsplineArgs {
     #[arg(long, value_enum, default_value_t = FitArg::Curve, value_name = "TARGET")]
     fit: FitArg,
     /// Objective evaluations for the optimizer.
-    #[arg(long, default_value_t = 3000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = bs::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of the optimizer; the same seed gives the same output.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Grid intervals of the curvature scan that finds the feature points.
-    #[arg(long, default_value_t = 1000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = bs::DEFAULT_GRID, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     grid: usize,
     /// Also write a picture: the curve, the samples (feature points marked), the spline
     /// and its control polygon.

@@ -26,7 +26,7 @@ pub(crate) struct CompareArgs {
     #[arg(long, value_delimiter = ',', value_name = "NAMES", value_parser = optimizer_list())]
     optimizers: Vec<String>,
     /// Independent runs per optimizer (the HS paper used 30).
-    #[arg(long, default_value_t = 30, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = outlinefit::compare::DEFAULT_RUNS, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     runs: usize,
     /// Objective evaluations per segment and run, the same for every optimizer.
     #[arg(long, default_value_t = Config::DEFAULT.budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
@@ -48,7 +48,7 @@ pub(crate) struct CompareArgs {
     #[arg(long, default_value_t = Config::DEFAULT.seed, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Points kept per convergence curve (evenly spaced evaluation counts).
-    #[arg(long, default_value_t = 200, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = outlinefit::compare::DEFAULT_HISTORY_POINTS, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     history_points: usize,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]

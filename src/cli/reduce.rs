@@ -36,7 +36,7 @@ pub(crate) struct ReduceArgs {
     method: String,
     /// Objective evaluations (least-squares solves) of a metaheuristic, one of them spent
     /// on the ω = 0 comparison. The default is the paper's 20 wolves × 300 iterations.
-    #[arg(long, default_value_t = 6000, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = outlinefit::reduce::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of a metaheuristic's random choices; the same seed gives the same output.
     #[arg(long, default_value_t = 1, value_name = "S", allow_negative_numbers = true, value_parser = whole::<u64>)]

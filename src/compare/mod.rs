@@ -25,6 +25,12 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// Independent runs per optimizer unless told otherwise (the HS paper used 30).
+pub const DEFAULT_RUNS: usize = 30;
+
+/// Points kept per convergence history unless told otherwise.
+pub const DEFAULT_HISTORY_POINTS: usize = 200;
+
 /// What to compare and how.
 #[derive(Clone, Debug, Serialize)]
 pub struct CompareOptions {

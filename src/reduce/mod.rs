@@ -148,11 +148,15 @@ impl ReduceOptions {
             constraint: Constraint::None,
             method: "exact".to_string(),
             shape: None,
-            budget: 6000,
+            budget: DEFAULT_BUDGET,
             seed: 1,
         }
     }
 }
+
+/// Default objective evaluations of a metaheuristic: the paper's 20 wolves × 300
+/// iterations.
+pub const DEFAULT_BUDGET: u64 = 6000;
 
 /// A reduced curve and how good it is.
 #[derive(Clone, Debug, PartialEq)]
