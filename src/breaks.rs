@@ -99,7 +99,7 @@ pub struct SegmentedContour {
 }
 
 /// Arc-length positions of a closed polygon: `s[i]` for each point and the total length.
-pub fn arc_lengths(points: &[Point]) -> (Vec<f64>, f64) {
+pub(crate) fn arc_lengths(points: &[Point]) -> (Vec<f64>, f64) {
     let n = points.len();
     let mut s = Vec::with_capacity(n);
     let mut acc = 0.0;
@@ -146,7 +146,7 @@ fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f
 
 /// Signed turning angle at every point over half-window `h` (positive turning clockwise on
 /// screen, i.e. towards +y from +x).
-pub fn turning_angles(points: &[Point], h: f64) -> Vec<f64> {
+pub(crate) fn turning_angles(points: &[Point], h: f64) -> Vec<f64> {
     let n = points.len();
     let (s, total) = arc_lengths(points);
     if n < 3 || total <= 0.0 {

@@ -189,7 +189,7 @@ pub fn distance_to_closed_polyline(p: Point, points: &[Point]) -> f64 {
 /// the library call that `f64::floor` becomes on baseline x86-64 (no SSE4.1): truncation,
 /// minus one below a negative non-integer.
 #[inline]
-pub fn floor_i64(x: f64) -> i64 {
+pub(crate) fn floor_i64(x: f64) -> i64 {
     let t = x as i64;
     t.saturating_sub(i64::from((t as f64) > x))
 }
@@ -198,7 +198,7 @@ pub fn floor_i64(x: f64) -> i64 {
 /// one lap outside [0, m): there the wrap is one exact subtraction, or one addition that
 /// rounds as `rem_euclid` rounds it.
 #[inline]
-pub fn wrap_once(x: f64, m: f64) -> f64 {
+pub(crate) fn wrap_once(x: f64, m: f64) -> f64 {
     if x >= 0.0 && x < m {
         x
     } else if x < 0.0 && x > -m {
@@ -222,7 +222,7 @@ pub fn angle_between(a: Point, b: Point) -> f64 {
 }
 
 /// The points of the cyclic run from index `a` to index `b` (both included) into `out`.
-pub fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Point>) {
+pub(crate) fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Point>) {
     out.clear();
     if b > a {
         out.extend_from_slice(&points[a..=b]);

@@ -37,7 +37,7 @@
 //!   segment count, the same corners and exact G1 at every smooth joint.
 //! * **Budget and seed.** A stretch gets `budget × movable joints` objective evaluations
 //!   ([`PlacementOptions::budget`]). Its generator is seeded from the base seed, the
-//!   contour index and the stretch's first segment ([`super::meta::segment_seed`]), so
+//!   contour index and the stretch's first segment (`meta::segment_seed`), so
 //!   results do not depend on thread count or order.
 //!
 //! Limits: the search is local (see the cells); the tangent at a joint is an estimate

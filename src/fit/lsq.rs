@@ -130,7 +130,7 @@ fn run_len(n: usize, a: usize, b: usize) -> usize {
 
 /// Unit tangent (direction of increasing index) at point `i` of a closed polygon, from a
 /// weighted least-squares quadratic in arc length over ±`window` px.
-pub fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point {
+pub(crate) fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point {
     let n = points.len();
     // Collect (s, point) on both sides.
     let mut acc = [[0.0; 3]; 3]; // normal matrix for basis (1, s, s²)
@@ -539,7 +539,7 @@ pub(super) fn assemble(
 
 /// Joint data (kind, tangent angle, β of Eq. 8) for a closed chain: joint i is where
 /// segment i − 1 ends and segment i starts.
-pub fn joint_report(
+pub(crate) fn joint_report(
     segments: &[FittedSegment],
     joints: impl Iterator<Item = (usize, JointKind)>,
     points: &[Point],

@@ -70,7 +70,7 @@ pub struct MetaOptions {
 
 /// The end conditions of segment `k` in the separable formulation: at a smooth joint the
 /// unit tangent the `lsq` fit gave both neighbours, at a corner none.
-pub fn end_conditions(base: &FittedContour, k: usize) -> (EndCondition, EndCondition) {
+pub(crate) fn end_conditions(base: &FittedContour, k: usize) -> (EndCondition, EndCondition) {
     let m = base.segments.len();
     let tangent_at = |j: usize| {
         if base.joints.get(j).map(|j| j.kind) != Some(JointKind::Smooth) {
@@ -212,7 +212,7 @@ pub(super) fn on_boundary(problem: &dyn Problem, x: &[f64]) -> bool {
 }
 
 /// Per-segment seed: a SplitMix64 mix of the base seed, contour and segment index.
-pub fn segment_seed(seed: u64, contour: usize, segment: usize) -> u64 {
+pub(crate) fn segment_seed(seed: u64, contour: usize, segment: usize) -> u64 {
     let mut z =
         seed ^ ((contour as u64) << 32 | segment as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

@@ -15,13 +15,13 @@ use nalgebra::{DMatrix, DVector};
 
 /// Why a bounded least-squares problem could not be solved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct NotPositiveDefinite;
+pub(crate) struct NotPositiveDefinite;
 
 /// The minimiser of `½ xᵀ G x − bᵀ x` over `x ≥ lower` (componentwise).
 ///
 /// `G` must be symmetric positive definite on every subset of variables (it is when it is
 /// positive definite); otherwise [`NotPositiveDefinite`].
-pub fn minimize_lower_bounded(
+pub(crate) fn minimize_lower_bounded(
     g: &DMatrix<f64>,
     b: &DVector<f64>,
     lower: &[f64],

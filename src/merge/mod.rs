@@ -20,7 +20,7 @@
 //! * [`Method::Exact`]: ε is quadratic in the control disks, and the center and radius parts
 //!   do not share unknowns. The centers solve one linear least-squares system (same normal
 //!   matrix for x and y); the radii solve the same system under `r_k ≥ min_radius`, a small
-//!   bounded least-squares problem ([`bounded`]). This is the global minimum.
+//!   bounded least-squares problem (`merge::bounded`). This is the global minimum.
 //! * [`Method::Optimizer`]: any metaheuristic of [`crate::optim`] over the same variables
 //!   (free centers and radii) within a box, as the paper does with BEESO (population 50,
 //!   500 iterations = 25 000 evaluations). The box is centered on the input control
@@ -30,7 +30,7 @@
 //!
 //! [`outline`] applies merging to traced outlines (`trace --merge`).
 
-pub mod bounded;
+pub(crate) mod bounded;
 pub mod input;
 pub mod outline;
 pub mod paper;
