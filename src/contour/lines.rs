@@ -1,8 +1,8 @@
-//! Small line geometry of the extraction: unit vectors, turning angles, segment
-//! crossings and total-least-squares lines.
+//! Small geometry of the extraction: unit vectors, turning angles, segment crossings,
+//! total-least-squares lines and their crossings, and a walk along an outline by arc
+//! length.
 
-use crate::geom::line_crossing;
-use crate::geom::Point;
+use crate::geom::{line_crossing, Point};
 
 /// Euclidean length without `hypot` (which is several times slower and whose extra
 /// range is not needed for pixel coordinates).
