@@ -63,9 +63,6 @@ pub const DEFAULT_METHOD: &str = "fwa";
 /// Default objective evaluations of the sample placement.
 pub const DEFAULT_BUDGET: u64 = 3000;
 
-/// Default grid intervals of the curvature scan for feature points.
-pub const DEFAULT_GRID: usize = 1000;
-
 /// Largest accepted `samples` (each objective evaluation fits all of them).
 pub const MAX_SAMPLES: usize = 10_000;
 
@@ -102,11 +99,11 @@ impl Default for ConvertOptions {
     fn default() -> Self {
         ConvertOptions {
             range: (0.0, 1.0),
-            samples: 20,
-            control_points: 6,
-            order: 4,
-            method: "fwa".to_string(),
-            budget: 3000,
+            samples: DEFAULT_SAMPLES,
+            control_points: DEFAULT_CONTROL_POINTS,
+            order: DEFAULT_ORDER,
+            method: DEFAULT_METHOD.to_string(),
+            budget: DEFAULT_BUDGET,
             seed: 1,
             feature_grid: features::DEFAULT_GRID,
             fit: FitTarget::default(),

@@ -51,7 +51,7 @@ pub(crate) struct BsplineArgs {
     #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Grid intervals of the curvature scan that finds the feature points.
-    #[arg(long, default_value_t = bs::DEFAULT_GRID, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    #[arg(long, default_value_t = bs::features::DEFAULT_GRID, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
     grid: usize,
     /// Also write a picture: the curve, the samples (feature points marked), the spline
     /// and its control polygon.

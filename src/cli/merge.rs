@@ -41,7 +41,7 @@ pub(crate) struct MergeArgs {
     /// Metaheuristics search centers within this many times the input's extent around it.
     #[arg(
         long,
-        default_value_t = 3.0,
+        default_value_t = outlinefit::merge::DEFAULT_BOX_SCALE,
         value_name = "S",
         allow_negative_numbers = true
     )]

@@ -55,6 +55,9 @@ pub const DEFAULT_MIN_RADIUS: f64 = 0.001;
 /// The paper's budget: population 50 × 500 iterations.
 pub const DEFAULT_BUDGET: u64 = 25_000;
 
+/// Default size of a metaheuristic's search box, in multiples of the input's extent.
+pub const DEFAULT_BOX_SCALE: f64 = 3.0;
+
 /// How the merged curve is found.
 #[derive(Clone, Copy)]
 pub enum Method<'a> {
@@ -91,7 +94,7 @@ impl MergeOptions {
             degree,
             preserve_endpoints: false,
             min_radius: DEFAULT_MIN_RADIUS,
-            box_scale: 3.0,
+            box_scale: DEFAULT_BOX_SCALE,
         }
     }
 }
