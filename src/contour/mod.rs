@@ -348,7 +348,7 @@ fn extract_with(
         let contour = if cracks.is_empty() {
             None
         } else {
-            let points = if bitmap.is_bilevel() {
+            let bilevel = |work: &mut Workspace| {
                 let fitted = work.bilevel_outline(&cracks, &mask);
                 if follows_cracks(&fitted, &cracks) {
                     fitted
@@ -357,18 +357,16 @@ fn extract_with(
                     // back to the plainly smoothed pixel-edge midpoints.
                     smoothed_cracks(&cracks)
                 }
+            };
+            let points = if bitmap.is_bilevel() {
+                bilevel(work)
             } else {
                 let refined = work.refined_outline(bitmap, &cracks, estimator);
                 if outline_noise(&refined) > NOISE_LIMIT {
                     // The grey levels are noise (JPEG ringing, scanner grain), not
                     // anti-aliasing: refining to them would fit the noise. Trace the
                     // thresholded pixels as a bilevel image is traced.
-                    let fitted = work.bilevel_outline(&cracks, &mask);
-                    if follows_cracks(&fitted, &cracks) {
-                        fitted
-                    } else {
-                        smoothed_cracks(&cracks)
-                    }
+                    bilevel(work)
                 } else {
                     refined
                 }
