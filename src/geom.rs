@@ -136,6 +136,82 @@ impl Neg for Point {
     }
 }
 
+/// An axis-aligned box of points; empty until a finite point is added.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// The smallest x and y seen.
+    pub min: Point,
+    /// The largest x and y seen.
+    pub max: Point,
+}
+
+impl Bounds {
+    /// The box of no point.
+    pub const EMPTY: Bounds = Bounds {
+        min: Point::new(f64::INFINITY, f64::INFINITY),
+        max: Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+    };
+
+    /// The box of the finite points among `points`.
+    pub fn of(points: impl IntoIterator<Item = Point>) -> Bounds {
+        let mut b = Bounds::EMPTY;
+        for p in points {
+            b.add(p);
+        }
+        b
+    }
+
+    /// Grows the box to hold `p`; non-finite points are ignored.
+    pub fn add(&mut self, p: Point) {
+        if p.is_finite() {
+            self.min = Point::new(self.min.x.min(p.x), self.min.y.min(p.y));
+            self.max = Point::new(self.max.x.max(p.x), self.max.y.max(p.y));
+        }
+    }
+
+    /// Grows the box to hold the disk of center `c` and radius `|r|`; ignored unless both
+    /// are finite.
+    pub fn add_disk(&mut self, c: Point, r: f64) {
+        if c.is_finite() && r.is_finite() {
+            let r = Point::new(r.abs(), r.abs());
+            self.add(c - r);
+            self.add(c + r);
+        }
+    }
+
+    /// True when no point has been added.
+    pub fn is_empty(&self) -> bool {
+        !(self.min.x <= self.max.x && self.min.y <= self.max.y)
+    }
+
+    /// The box itself, or the unit square [0, 1]² if it is empty.
+    pub fn or_unit(self) -> Bounds {
+        if self.is_empty() {
+            Bounds {
+                min: Point::ZERO,
+                max: Point::new(1.0, 1.0),
+            }
+        } else {
+            self
+        }
+    }
+
+    /// Width (0 for a single point; meaningless when empty).
+    pub fn width(&self) -> f64 {
+        self.max.x - self.min.x
+    }
+
+    /// Height (0 for a single point; meaningless when empty).
+    pub fn height(&self) -> f64 {
+        self.max.y - self.min.y
+    }
+
+    /// The longer side.
+    pub fn extent(&self) -> f64 {
+        self.width().max(self.height())
+    }
+}
+
 /// Signed area of a closed polygon by the shoelace formula, in the image frame
 /// (y down): positive for loops that run clockwise on screen.
 pub fn signed_area(points: &[Point]) -> f64 {

@@ -6,12 +6,16 @@
 
 use super::expr::ParametricCurve;
 use super::Conversion;
-use crate::export::svg::escape_attribute;
-use crate::geom::Point;
-use std::fmt::Write;
+use crate::export::document::{
+    number, points_attribute, Circle, Document, Group, Line, Polyline, Rectangle, Text,
+};
+use crate::geom::{Bounds, Point};
 
 /// Points of the polylines that draw the curve and the spline.
 const POLYLINE_POINTS: usize = 1000;
+
+/// Decimals of the picture's coordinates (in an 800-px frame).
+const PRECISION: usize = 3;
 
 /// The SVG document for `conversion` of `curve`.
 pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
@@ -30,63 +34,74 @@ pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
         })
         .collect();
 
-    let all = curve_pts.iter().chain(&spline_pts).chain(&ctrl);
-    let (mut lo, mut hi) = (
-        Point::new(f64::MAX, f64::MAX),
-        Point::new(f64::MIN, f64::MIN),
-    );
-    for p in all.filter(|p| p.is_finite()) {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    if !(lo.x <= hi.x && lo.y <= hi.y) {
-        lo = Point::ZERO;
-        hi = Point::new(1.0, 1.0);
-    }
-    let extent = (hi.x - lo.x).max(hi.y - lo.y).max(1e-12);
+    let frame = Bounds::of(curve_pts.iter().chain(&spline_pts).chain(&ctrl).copied()).or_unit();
+    let extent = frame.extent().max(1e-12);
     let (width, margin, legend_h) = (800.0, 40.0, 135.0);
     let scale = (width - 2.0 * margin) / extent;
-    let plot_h = (hi.y - lo.y) * scale;
+    let plot_h = frame.height() * scale;
     let height = plot_h + 2.0 * margin + legend_h;
-    let map = |p: Point| Point::new(margin + (p.x - lo.x) * scale, margin + (hi.y - p.y) * scale);
-    let polyline = |pts: &[Point]| {
-        let mut s = String::new();
-        for p in pts.iter().filter(|p| p.is_finite()) {
-            let q = map(*p);
-            let _ = write!(s, "{:.3},{:.3} ", q.x, q.y);
-        }
-        s.trim_end().to_string()
+    let map = |p: Point| {
+        Point::new(
+            margin + (p.x - frame.min.x) * scale,
+            margin + (frame.max.y - p.y) * scale,
+        )
     };
+    let polyline = |pts: &[Point]| {
+        let mapped: Vec<Point> = pts
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|&p| map(p))
+            .collect();
+        points_attribute(&mapped, PRECISION)
+    };
+    let n = |x: f64| number(x, PRECISION);
 
-    let mut svg = String::new();
-    let _ = writeln!(
-        svg,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.0} {height:.0}" font-family="sans-serif" font-size="13">"#
+    let mut doc = Document::new(width, height, [0.0, 0.0, width, height], 0)
+        .set("font-family", "sans-serif")
+        .set("font-size", 13);
+    doc.add(
+        Rectangle::new()
+            .set("width", "100%")
+            .set("height", "100%")
+            .set("fill", "white"),
     );
-    let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(
-        svg,
-        r##"<polyline id="control-polygon" points="{}" fill="none" stroke="#999" stroke-width="1" stroke-dasharray="4 3"/>"##,
-        polyline(&ctrl)
+    doc.add(
+        Polyline::new()
+            .set("id", "control-polygon")
+            .set("points", polyline(&ctrl))
+            .set("fill", "none")
+            .set("stroke", "#999")
+            .set("stroke-width", 1)
+            .set("stroke-dasharray", "4 3"),
     );
     for p in &ctrl {
         let q = map(*p);
-        let _ = writeln!(
-            svg,
-            r##"<rect x="{:.3}" y="{:.3}" width="6" height="6" fill="none" stroke="#999"/>"##,
-            q.x - 3.0,
-            q.y - 3.0
+        doc.add(
+            Rectangle::new()
+                .set("x", n(q.x - 3.0))
+                .set("y", n(q.y - 3.0))
+                .set("width", 6)
+                .set("height", 6)
+                .set("fill", "none")
+                .set("stroke", "#999"),
         );
     }
-    let _ = writeln!(
-        svg,
-        r##"<polyline id="curve" points="{}" fill="none" stroke="#1f77b4" stroke-width="4" stroke-opacity="0.5"/>"##,
-        polyline(&curve_pts)
+    doc.add(
+        Polyline::new()
+            .set("id", "curve")
+            .set("points", polyline(&curve_pts))
+            .set("fill", "none")
+            .set("stroke", "#1f77b4")
+            .set("stroke-width", 4)
+            .set("stroke-opacity", 0.5),
     );
-    let _ = writeln!(
-        svg,
-        r##"<polyline id="spline" points="{}" fill="none" stroke="#d62728" stroke-width="1.5"/>"##,
-        polyline(&spline_pts)
+    doc.add(
+        Polyline::new()
+            .set("id", "spline")
+            .set("points", polyline(&spline_pts))
+            .set("fill", "none")
+            .set("stroke", "#d62728")
+            .set("stroke-width", 1.5),
     );
     for (p, feature) in &samples {
         if !p.is_finite() {
@@ -94,29 +109,46 @@ pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
         }
         let q = map(*p);
         if *feature {
-            let _ = writeln!(
-                svg,
-                r##"<rect class="feature" x="{:.3}" y="{:.3}" width="9" height="9" fill="#ff7f0e" stroke="black"/>"##,
-                q.x - 4.5,
-                q.y - 4.5
+            doc.add(
+                feature_mark()
+                    .set("x", n(q.x - 4.5))
+                    .set("y", n(q.y - 4.5))
+                    .set("class", "feature"),
             );
         } else {
-            let _ = writeln!(
-                svg,
-                r#"<circle class="sample" cx="{:.3}" cy="{:.3}" r="3.5" fill="black"/>"#,
-                q.x, q.y
+            doc.add(
+                sample_mark()
+                    .set("cx", n(q.x))
+                    .set("cy", n(q.y))
+                    .set("class", "sample"),
             );
         }
     }
     // Legend.
     let ly = plot_h + 2.0 * margin;
-    let rows = [
+    let curve_line = || {
+        Line::new()
+            .set("x1", 0)
+            .set("y1", 0)
+            .set("x2", 30)
+            .set("y2", 0)
+    };
+    let rows: [(Option<Box<dyn svg::Node>>, String); 5] = [
         (
-            r##"<line x1="0" y1="0" x2="30" y2="0" stroke="#1f77b4" stroke-width="4" stroke-opacity="0.5"/>"##,
+            Some(Box::new(
+                curve_line()
+                    .set("stroke", "#1f77b4")
+                    .set("stroke-width", 4)
+                    .set("stroke-opacity", 0.5),
+            )),
             "curve".to_string(),
         ),
         (
-            r##"<line x1="0" y1="0" x2="30" y2="0" stroke="#d62728" stroke-width="1.5"/>"##,
+            Some(Box::new(
+                curve_line()
+                    .set("stroke", "#d62728")
+                    .set("stroke-width", 1.5),
+            )),
             format!(
                 "B-spline, order {}, {} control points fitted to the {} (dashed polygon)",
                 conversion.order,
@@ -125,7 +157,7 @@ pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
             ),
         ),
         (
-            r#"<circle cx="15" cy="0" r="3.5" fill="black"/>"#,
+            Some(Box::new(sample_mark().set("cx", 15).set("cy", 0))),
             format!(
                 "other samples: the ends and the auxiliary ones ({}, placed by {})",
                 conversion.samples.len() - conversion.feature_points.len(),
@@ -133,28 +165,44 @@ pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
             ),
         ),
         (
-            r##"<rect x="10.5" y="-4.5" width="9" height="9" fill="#ff7f0e" stroke="black"/>"##,
+            Some(Box::new(feature_mark().set("x", 10.5).set("y", -4.5))),
             format!(
                 "feature points ({}: inflections and curvature maxima)",
                 conversion.feature_points.len()
             ),
         ),
         (
-            "",
+            None,
             format!(
                 "error: RMSE {:.3e} on the samples (Eq. 1); against the curve at 1000 u: RMSE {:.3e}, max {:.3e}",
                 conversion.rmse, conversion.rmse_dense, conversion.max_error_dense
             ),
         ),
     ];
-    for (i, (mark, text)) in rows.iter().enumerate() {
+    for (i, (mark, text)) in rows.into_iter().enumerate() {
         let y = ly + 10.0 + 24.0 * i as f64;
-        let _ = writeln!(
-            svg,
-            r#"<g transform="translate({margin:.0},{y:.1})">{mark}<text x="40" y="5">{}</text></g>"#,
-            escape_attribute(text)
+        let mut row = Group::new().set(
+            "transform",
+            format!("translate({},{})", number(margin, 0), number(y, 1)),
         );
+        if let Some(mark) = mark {
+            row = row.add(mark);
+        }
+        doc.add(row.add(Text::new(text).set("x", 40).set("y", 5)));
     }
-    svg.push_str("</svg>\n");
-    svg
+    doc.finish()
+}
+
+/// The mark of a sample that is not a feature point: a black dot.
+fn sample_mark() -> Circle {
+    Circle::new().set("r", 3.5).set("fill", "black")
+}
+
+/// The mark of a feature point: an orange square.
+fn feature_mark() -> Rectangle {
+    Rectangle::new()
+        .set("width", 9)
+        .set("height", 9)
+        .set("fill", "#ff7f0e")
+        .set("stroke", "black")
 }

@@ -28,17 +28,18 @@
 //! pixels, so a 64-px glyph and a 1024-px logo are both readable. On large images with dense
 //! data the dots merge into a band around the outline.
 
-use super::svg::{
-    contour_path_data, effective_bound, write_number, write_point, write_svg_open, ContourPath,
-    MAX_PRECISION,
+use super::document::{
+    comment, number, push_number, Circle, Group, Image, PathData, Rectangle, Text, MAX_PRECISION,
 };
+use super::svg::{contour_path_data, effective_bound, pixel_document, ContourPath};
 use crate::fit::JointKind;
 use crate::geom::Point;
-use crate::merge::picture::envelope;
+use crate::merge::picture::envelope_band;
 use crate::trace::TraceResult;
 use base64::Engine as _;
 use image::ImageEncoder as _;
-use std::fmt::Write as _;
+
+type SvgPath = super::document::Path;
 
 /// Nominal size, in screen pixels, of the longer side of the picture.
 const VIEW_SIDE: f64 = 800.0;
@@ -110,149 +111,121 @@ pub fn to_overlay_svg(
     let unit = side / VIEW_SIDE * scale;
     let precision = opts.precision.min(MAX_PRECISION);
     let bound = effective_bound(opts.bound);
-    let num = |x: f64| {
-        let mut s = String::new();
-        write_number(&mut s, x, precision.max(SIZE_PRECISION));
-        s
-    };
+    let size = |x: f64| number(x, precision.max(SIZE_PRECISION));
+    let path = |precision| PathData::new(precision);
 
-    let mut out = String::new();
-    write_svg_open(
-        &mut out,
-        width,
-        height,
-        Some((u64::from(width) * zoom, u64::from(height) * zoom)),
-    );
+    let mut doc = pixel_document(width, height, zoom);
     if let Some(img) = background {
         match png_base64(img) {
-            Ok(data) => {
-                let _ = writeln!(
-                    out,
-                    "<image id=\"background\" x=\"0\" y=\"0\" width=\"{width}\" height=\"{height}\" \
-                     preserveAspectRatio=\"none\" image-rendering=\"optimizeSpeed\" \
-                     style=\"image-rendering:pixelated\" opacity=\"0.6\" \
-                     href=\"data:image/png;base64,{data}\"/>"
-                );
-            }
-            Err(e) => {
-                let _ = writeln!(
-                    out,
-                    "<!-- background image left out: {} -->",
-                    comment_safe(&e.to_string())
-                );
-            }
+            Ok(data) => doc.add(
+                Image::new()
+                    .set("id", "background")
+                    .set("x", 0)
+                    .set("y", 0)
+                    .set("width", width)
+                    .set("height", height)
+                    .set("preserveAspectRatio", "none")
+                    .set("image-rendering", "optimizeSpeed")
+                    .set("style", "image-rendering:pixelated")
+                    .set("opacity", 0.6)
+                    .set("href", format!("data:image/png;base64,{data}")),
+            ),
+            Err(e) => doc.comment(&format!("background image left out: {e}")),
         }
     }
 
     if opts.show_control_polygons {
-        let _ = writeln!(
-            out,
-            "<g id=\"control-polygons\" fill=\"none\" stroke=\"{CONTROL_COLOUR}\" stroke-width=\"{}\">",
-            num(0.75 * unit)
-        );
+        let mut polygons = Group::new()
+            .set("id", "control-polygons")
+            .set("fill", "none")
+            .set("stroke", CONTROL_COLOUR)
+            .set("stroke-width", size(0.75 * unit));
         for c in &result.contours {
-            let mut d = String::new();
+            let mut d = path(precision);
             for s in &c.segments {
                 let p = &s.curve.points;
-                if !p.iter().all(|q| q.is_finite()) {
-                    continue;
-                }
-                d.push('M');
-                write_point(&mut d, p[0], precision);
-                d.push('L');
-                for (k, &q) in p[1..].iter().enumerate() {
-                    if k > 0 {
-                        d.push(' ');
-                    }
-                    write_point(&mut d, q, precision);
+                if p.iter().all(|q| q.is_finite()) {
+                    d.polyline(p.iter().copied());
                 }
             }
             if !d.is_empty() {
-                let _ = writeln!(out, "<path d=\"{d}\"/>");
+                polygons = polygons.add(SvgPath::new().set("d", d.finish()));
             }
         }
-        out.push_str("</g>\n");
-        let _ = writeln!(
-            out,
-            "<g id=\"control-points\" fill=\"none\" stroke=\"{CONTROL_COLOUR}\" stroke-width=\"{}\">",
-            num(0.6 * unit)
-        );
-        let r = num(2.0 * unit);
+        doc.add(polygons);
+        let mut points = Group::new()
+            .set("id", "control-points")
+            .set("fill", "none")
+            .set("stroke", CONTROL_COLOUR)
+            .set("stroke-width", size(0.6 * unit));
+        let r = size(2.0 * unit);
         for s in result.contours.iter().flat_map(|c| &c.segments) {
             for &p in &s.curve.points[1..3] {
                 if p.is_finite() {
-                    write_circle(&mut out, p, &r, precision);
+                    points = points.add(circle(p, &r, precision));
                 }
             }
         }
-        out.push_str("</g>\n");
+        doc.add(points);
     }
 
     let has_merged = result.merged.iter().any(|m| !m.is_empty());
     if has_merged {
-        let _ = writeln!(
-            out,
-            "<g id=\"merged-envelopes\" fill=\"{MERGED_COLOUR}\" fill-opacity=\"0.25\" \
-             stroke=\"{MERGED_COLOUR}\" stroke-width=\"{}\">",
-            num(0.5 * unit)
-        );
+        let mut bands = Group::new()
+            .set("id", "merged-envelopes")
+            .set("fill", MERGED_COLOUR)
+            .set("fill-opacity", 0.25)
+            .set("stroke", MERGED_COLOUR)
+            .set("stroke-width", size(0.5 * unit));
         for m in result.merged.iter().flatten() {
-            let env = envelope(&m.curve(), ENVELOPE_SAMPLES);
-            let upper: Vec<Point> = env.iter().flatten().map(|e| e.0).collect();
-            let lower: Vec<Point> = env.iter().flatten().map(|e| e.1).collect();
-            if upper.len() < 2 || !upper.iter().chain(&lower).all(|p| p.is_finite()) {
+            let Some(band) = envelope_band(&m.curve(), ENVELOPE_SAMPLES) else {
                 continue;
-            }
-            let mut d = String::new();
-            for (k, &p) in upper.iter().chain(lower.iter().rev()).enumerate() {
-                d.push(if k == 0 { 'M' } else { 'L' });
-                write_point(&mut d, p, precision);
-            }
-            d.push('Z');
-            let _ = writeln!(out, "<path d=\"{d}\"/>");
+            };
+            let mut d = path(precision);
+            d.polyline(band);
+            d.close();
+            bands = bands.add(SvgPath::new().set("d", d.finish()));
         }
-        out.push_str("</g>\n");
+        doc.add(bands);
     }
 
     if opts.show_points {
-        let _ = writeln!(
-            out,
-            "<g id=\"data-points\" fill=\"none\" stroke=\"{POINT_COLOUR}\" stroke-width=\"{}\" \
-             stroke-linecap=\"round\">",
-            num(3.5 * unit)
-        );
+        let mut dots = Group::new()
+            .set("id", "data-points")
+            .set("fill", "none")
+            .set("stroke", POINT_COLOUR)
+            .set("stroke-width", size(3.5 * unit))
+            .set("stroke-linecap", "round");
         for c in &result.contours {
-            let mut d = String::new();
+            let mut d = path(precision);
             for &p in c.points.iter().filter(|p| p.is_finite()) {
-                d.push('M');
-                write_point(&mut d, p, precision);
-                d.push_str("h0");
+                d.dot(p);
             }
             if !d.is_empty() {
-                let _ = writeln!(out, "<path d=\"{d}\"/>");
+                dots = dots.add(SvgPath::new().set("d", d.finish()));
             }
         }
-        out.push_str("</g>\n");
+        doc.add(dots);
     }
 
-    let _ = writeln!(
-        out,
-        "<g id=\"outline\" fill=\"none\" stroke=\"{OUTLINE_COLOUR}\" stroke-width=\"{}\" \
-         stroke-linejoin=\"round\">",
-        num(1.5 * unit)
-    );
+    let mut outline = Group::new()
+        .set("id", "outline")
+        .set("fill", "none")
+        .set("stroke", OUTLINE_COLOUR)
+        .set("stroke-width", size(1.5 * unit))
+        .set("stroke-linejoin", "round");
     for (i, c) in result.contours.iter().enumerate() {
         match contour_path_data(c, result.merged_of(i), bound, precision) {
-            ContourPath::Data(d) => {
-                let _ = writeln!(out, "<path d=\"{d}\"/>");
-            }
+            ContourPath::Data(d) => outline = outline.add(SvgPath::new().set("d", d)),
             ContourPath::Empty => {}
             ContourPath::NonFinite => {
-                let _ = writeln!(out, "<!-- contour {i} skipped: non-finite coordinates -->");
+                outline = outline.add(comment(&format!(
+                    "contour {i} skipped: non-finite coordinates"
+                )));
             }
         }
     }
-    out.push_str("</g>\n");
+    doc.add(outline);
 
     let joints = || {
         result
@@ -261,62 +234,56 @@ pub fn to_overlay_svg(
             .flat_map(|c| &c.joints)
             .filter(|j| j.position.is_finite())
     };
-    let _ = writeln!(out, "<g id=\"smooth-joints\" fill=\"{SMOOTH_COLOUR}\">");
-    let r = num(3.0 * unit);
+    let mut smooth = Group::new()
+        .set("id", "smooth-joints")
+        .set("fill", SMOOTH_COLOUR);
+    let r = size(3.0 * unit);
     for j in joints().filter(|j| j.kind == JointKind::Smooth) {
-        write_circle(&mut out, j.position, &r, precision);
+        smooth = smooth.add(circle(j.position, &r, precision));
     }
-    out.push_str("</g>\n");
-    let _ = writeln!(out, "<g id=\"corners\" fill=\"{CORNER_COLOUR}\">");
+    doc.add(smooth);
+    let mut corners = Group::new().set("id", "corners").set("fill", CORNER_COLOUR);
     let half = 3.0 * unit;
     for j in joints().filter(|j| j.kind == JointKind::Corner) {
-        write_square(&mut out, j.position, half, precision);
+        corners = corners.add(square(j.position, half, precision));
     }
-    out.push_str("</g>\n");
+    doc.add(corners);
 
     if opts.show_legend {
-        write_legend(&mut out, unit, opts, has_merged, precision);
+        doc.add(legend(unit, opts, has_merged, precision));
     }
-    out.push_str("</svg>\n");
-    out
+    doc.finish()
 }
 
 /// `<circle cx cy r/>` with a preformatted radius.
-fn write_circle(out: &mut String, p: Point, r: &str, precision: usize) {
-    out.push_str("<circle cx=\"");
-    write_number(out, p.x, precision);
-    out.push_str("\" cy=\"");
-    write_number(out, p.y, precision);
-    let _ = writeln!(out, "\" r=\"{r}\"/>");
+fn circle(p: Point, r: &str, precision: usize) -> Circle {
+    Circle::new()
+        .set("cx", number(p.x, precision))
+        .set("cy", number(p.y, precision))
+        .set("r", r)
 }
 
 /// An axis-aligned square of half side `half` centred on `p`.
-fn write_square(out: &mut String, p: Point, half: f64, precision: usize) {
-    out.push_str("<rect x=\"");
-    write_number(out, p.x - half, precision);
-    out.push_str("\" y=\"");
-    write_number(out, p.y - half, precision);
-    out.push_str("\" width=\"");
-    write_number(out, 2.0 * half, precision.max(SIZE_PRECISION));
-    out.push_str("\" height=\"");
-    write_number(out, 2.0 * half, precision.max(SIZE_PRECISION));
-    out.push_str("\"/>\n");
+fn square(p: Point, half: f64, precision: usize) -> Rectangle {
+    let side = number(2.0 * half, precision.max(SIZE_PRECISION));
+    Rectangle::new()
+        .set("x", number(p.x - half, precision))
+        .set("y", number(p.y - half, precision))
+        .set("width", side.clone())
+        .set("height", side)
 }
 
 /// The legend box in the top-left corner; its sample markers are outside the counted
 /// marker groups.
-fn write_legend(
-    out: &mut String,
-    unit: f64,
-    opts: &OverlayOptions,
-    has_merged: bool,
-    precision: usize,
-) {
+fn legend(unit: f64, opts: &OverlayOptions, has_merged: bool, precision: usize) -> Group {
     let p = precision.max(SIZE_PRECISION);
-    let n = |x: f64| {
-        let mut s = String::new();
-        write_number(&mut s, x, p);
-        s
+    let n = |x: f64| number(x, p);
+    let line_path = |from: Point, to_x: f64| {
+        let mut d = String::from("M");
+        super::document::push_point(&mut d, from, p);
+        d.push('H');
+        push_number(&mut d, to_x, p);
+        d
     };
     let mut entries: Vec<(&str, &str)> = vec![("line", "fitted outline")];
     if opts.show_points {
@@ -332,64 +299,82 @@ fn write_legend(
     }
     let line = 16.0 * unit;
     let (x0, y0) = (4.0 * unit, 4.0 * unit);
-    let _ = writeln!(
-        out,
-        "<g id=\"legend\" font-family=\"sans-serif\" font-size=\"{}\">\n\
-         <rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#ffffff\" fill-opacity=\"0.85\" \
-         stroke=\"{CONTROL_COLOUR}\" stroke-width=\"{}\"/>",
-        n(11.0 * unit),
-        n(x0),
-        n(y0),
-        n(132.0 * unit),
-        n(line * entries.len() as f64 + 8.0 * unit),
-        n(0.5 * unit),
-    );
+    let mut g = Group::new()
+        .set("id", "legend")
+        .set("font-family", "sans-serif")
+        .set("font-size", n(11.0 * unit))
+        .add(
+            Rectangle::new()
+                .set("x", n(x0))
+                .set("y", n(y0))
+                .set("width", n(132.0 * unit))
+                .set("height", n(line * entries.len() as f64 + 8.0 * unit))
+                .set("fill", "#ffffff")
+                .set("fill-opacity", 0.85)
+                .set("stroke", CONTROL_COLOUR)
+                .set("stroke-width", n(0.5 * unit)),
+        );
     for (k, (kind, label)) in entries.iter().enumerate() {
         let cy = y0 + 4.0 * unit + line * (k as f64 + 0.5);
         let (sx, sx2) = (x0 + 6.0 * unit, x0 + 26.0 * unit);
         let mid = 0.5 * (sx + sx2);
-        let _ = match *kind {
-            "line" => writeln!(
-                out,
-                "<path d=\"M{} {}H{}\" stroke=\"{OUTLINE_COLOUR}\" stroke-width=\"{}\"/>",
-                n(sx), n(cy), n(sx2), n(1.5 * unit)
+        g = match *kind {
+            "line" => g.add(
+                SvgPath::new()
+                    .set("d", line_path(Point::new(sx, cy), sx2))
+                    .set("stroke", OUTLINE_COLOUR)
+                    .set("stroke-width", n(1.5 * unit)),
             ),
-            "dot" => writeln!(
-                out,
-                "<path d=\"M{} {}h0\" stroke=\"{POINT_COLOUR}\" stroke-width=\"{}\" stroke-linecap=\"round\"/>",
-                n(mid), n(cy), n(3.5 * unit)
+            "dot" => {
+                let mut d = PathData::new(p);
+                d.dot(Point::new(mid, cy));
+                g.add(
+                    SvgPath::new()
+                        .set("d", d.finish())
+                        .set("stroke", POINT_COLOUR)
+                        .set("stroke-width", n(3.5 * unit))
+                        .set("stroke-linecap", "round"),
+                )
+            }
+            "smooth" => {
+                g.add(circle(Point::new(mid, cy), &n(3.0 * unit), p).set("fill", SMOOTH_COLOUR))
+            }
+            "corner" => {
+                g.add(square(Point::new(mid, cy), 3.0 * unit, p).set("fill", CORNER_COLOUR))
+            }
+            "band" => g.add(
+                Rectangle::new()
+                    .set("x", n(sx))
+                    .set("y", n(cy - 3.0 * unit))
+                    .set("width", n(sx2 - sx))
+                    .set("height", n(6.0 * unit))
+                    .set("fill", MERGED_COLOUR)
+                    .set("fill-opacity", 0.25)
+                    .set("stroke", MERGED_COLOUR)
+                    .set("stroke-width", n(0.5 * unit)),
             ),
-            "smooth" => writeln!(
-                out,
-                "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"{SMOOTH_COLOUR}\"/>",
-                n(mid), n(cy), n(3.0 * unit)
-            ),
-            "corner" => writeln!(
-                out,
-                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{CORNER_COLOUR}\"/>",
-                n(mid - 3.0 * unit), n(cy - 3.0 * unit), n(6.0 * unit), n(6.0 * unit)
-            ),
-            "band" => writeln!(
-                out,
-                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{MERGED_COLOUR}\" fill-opacity=\"0.25\" stroke=\"{MERGED_COLOUR}\" stroke-width=\"{}\"/>",
-                n(sx), n(cy - 3.0 * unit), n(sx2 - sx), n(6.0 * unit), n(0.5 * unit)
-            ),
-            _ => writeln!(
-                out,
-                "<path d=\"M{} {}H{}\" stroke=\"{CONTROL_COLOUR}\" stroke-width=\"{}\"/>\
-                 <circle cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"none\" stroke=\"{CONTROL_COLOUR}\" stroke-width=\"{}\"/>",
-                n(sx), n(cy), n(sx2), n(0.75 * unit),
-                n(mid), n(cy), n(2.0 * unit), n(0.6 * unit)
-            ),
+            _ => g
+                .add(
+                    SvgPath::new()
+                        .set("d", line_path(Point::new(sx, cy), sx2))
+                        .set("stroke", CONTROL_COLOUR)
+                        .set("stroke-width", n(0.75 * unit)),
+                )
+                .add(
+                    circle(Point::new(mid, cy), &n(2.0 * unit), p)
+                        .set("fill", "none")
+                        .set("stroke", CONTROL_COLOUR)
+                        .set("stroke-width", n(0.6 * unit)),
+                ),
         };
-        let _ = writeln!(
-            out,
-            "<text x=\"{}\" y=\"{}\" fill=\"#000000\">{label}</text>",
-            n(x0 + 32.0 * unit),
-            n(cy + 4.0 * unit)
+        g = g.add(
+            Text::new(*label)
+                .set("x", n(x0 + 32.0 * unit))
+                .set("y", n(cy + 4.0 * unit))
+                .set("fill", "#000000"),
         );
     }
-    out.push_str("</g>\n");
+    g
 }
 
 /// The image as a PNG, base64-encoded.
@@ -402,11 +387,6 @@ fn png_base64(img: &image::GrayImage) -> Result<String, image::ImageError> {
         image::ExtendedColorType::L8,
     )?;
     Ok(base64::engine::general_purpose::STANDARD.encode(&png))
-}
-
-/// Text made safe inside an XML comment (no `--`).
-fn comment_safe(s: &str) -> String {
-    s.replace("--", "- -")
 }
 
 #[cfg(test)]
@@ -526,7 +506,11 @@ mod tests {
         // 1.5 nominal screen pixels of an 800-px view in both cases.
         assert!((stroke(&small) - 1.5 * 64.0 / 800.0).abs() < 1e-9);
         assert!((stroke(&large) - 1.5 * 1024.0 / 800.0).abs() < 1e-9);
-        assert!(large.contains("width=\"1024\" height=\"512\" viewBox=\"0 0 1024 512\""));
+        let doc = roxmltree::Document::parse(&large).unwrap();
+        let root = doc.root_element();
+        assert_eq!(root.attribute("width"), Some("1024"));
+        assert_eq!(root.attribute("height"), Some("512"));
+        assert_eq!(root.attribute("viewBox"), Some("0 0 1024 512"));
     }
 
     #[test]

@@ -14,12 +14,13 @@
 //! curve is within the bound, and G1 joints stay G1. The exact rational data belongs in the
 //! JSON report.
 //!
-//! The document uses input pixel units (`viewBox="0 0 W H"`, x right, y down). Numbers are
-//! written by a small hand-made formatter: fixed decimals, trailing zeros trimmed, never
-//! `-0`, so identical results give byte-identical files. Points are rounded to `precision`
-//! decimals, which moves them by at most half a unit of the last decimal (0.005 px by
-//! default), on top of the approximation bound; [`SvgOptions::for_tolerance`] picks the
-//! fewest decimals that keep this within half the bound.
+//! The document uses input pixel units (`viewBox="0 0 W H"`, x right, y down) and is
+//! written by [`super::document`], the writer all pictures share: numbers get fixed
+//! decimals, trailing zeros trimmed, never `-0`, so identical results give byte-identical
+//! files. Points are rounded to `precision` decimals, which moves them by at most half a
+//! unit of the last decimal (0.005 px by default), on top of the approximation bound;
+//! [`SvgOptions::for_tolerance`] picks the fewest decimals that keep this within half the
+//! bound.
 //!
 //! Nothing is dropped silently: a contour with non-finite coordinates, or a hole without an
 //! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
@@ -28,13 +29,11 @@
 use crate::curve::approx::{drawing_bound, DEFAULT_DRAWING_BOUND};
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
-use crate::geom::Point;
 use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::trace::TraceResult;
-use std::fmt::Write as _;
 
-/// Largest number of decimals written; more would only print floating-point noise.
-pub const MAX_PRECISION: usize = 12;
+pub use super::document::MAX_PRECISION;
+use super::document::{decimals_for, CompactPath, Document, Path};
 
 /// How [`to_svg`] writes the outline.
 #[derive(Clone, Debug, PartialEq)]
@@ -87,9 +86,7 @@ impl SvgOptions {
 /// The fewest decimals (at most [`MAX_PRECISION`]) whose unit is at most `bound`, so that
 /// rounding (half a unit) moves a point by at most half the bound.
 fn precision_for(bound: f64) -> usize {
-    (0..MAX_PRECISION)
-        .find(|&p| 10f64.powi(-(p as i32)) <= effective_bound(bound) * (1.0 + 1e-9))
-        .unwrap_or(MAX_PRECISION)
+    decimals_for(effective_bound(bound))
 }
 
 /// `bound` if it is a positive finite number, else the default.
@@ -106,8 +103,7 @@ pub(crate) fn effective_bound(bound: f64) -> f64 {
 pub fn to_svg(result: &TraceResult, opts: &SvgOptions) -> String {
     let precision = opts.precision.min(MAX_PRECISION);
     let bound = opts.effective_bound();
-    let mut out = String::new();
-    write_svg_open(&mut out, result.image.width, result.image.height, None);
+    let mut doc = pixel_document(result.image.width, result.image.height, 1);
     let contours = &result.contours;
     let mut holes_of: Vec<Vec<usize>> = vec![Vec::new(); contours.len()];
     for (i, c) in contours.iter().enumerate() {
@@ -118,15 +114,13 @@ pub fn to_svg(result: &TraceResult, opts: &SvgOptions) -> String {
             Some(p) if p < contours.len() && !contours[p].is_hole => holes_of[p].push(i),
             _ => {
                 if !c.segments.is_empty() {
-                    let _ = writeln!(
-                        out,
-                        "<!-- contour {i} skipped: a hole without an outer border -->"
-                    );
+                    doc.comment(&format!(
+                        "contour {i} skipped: a hole without an outer border"
+                    ));
                 }
             }
         }
     }
-    let fill = escape_attribute(&opts.fill);
     for (i, c) in contours.iter().enumerate() {
         if c.is_hole {
             continue;
@@ -137,35 +131,27 @@ pub fn to_svg(result: &TraceResult, opts: &SvgOptions) -> String {
                 ContourPath::Data(d) => data.push_str(&d),
                 ContourPath::Empty => {}
                 ContourPath::NonFinite => {
-                    let _ = writeln!(out, "<!-- contour {k} skipped: non-finite coordinates -->");
+                    doc.comment(&format!("contour {k} skipped: non-finite coordinates"));
                 }
             }
         }
         if !data.is_empty() {
-            let _ = writeln!(
-                out,
-                "<path fill=\"{fill}\" fill-rule=\"evenodd\" d=\"{data}\"/>"
+            doc.add(
+                Path::new()
+                    .set("fill", opts.fill.as_str())
+                    .set("fill-rule", "evenodd")
+                    .set("d", data),
             );
         }
     }
-    out.push_str("</svg>\n");
-    out
+    doc.finish()
 }
 
-/// Writes the opening `<svg>` tag in input pixel units, with an optional display size
-/// (`width`/`height` attributes) different from the viewBox.
-pub(crate) fn write_svg_open(
-    out: &mut String,
-    width: u32,
-    height: u32,
-    display: Option<(u64, u64)>,
-) {
-    let (dw, dh) = display.unwrap_or((u64::from(width), u64::from(height)));
-    let _ = writeln!(
-        out,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{dw}\" height=\"{dh}\" \
-         viewBox=\"0 0 {width} {height}\">"
-    );
+/// A document in input pixel units (`viewBox="0 0 W H"`), shown `zoom` times larger.
+pub(crate) fn pixel_document(width: u32, height: u32, zoom: u64) -> Document {
+    let (w, h) = (f64::from(width), f64::from(height));
+    let z = zoom as f64;
+    Document::new(w * z, h * z, [0.0, 0.0, w, h], 0)
 }
 
 /// The path data of one contour, or why there is none.
@@ -178,15 +164,13 @@ pub(crate) enum ContourPath {
     NonFinite,
 }
 
-/// Path data of one closed contour, written compactly (as potrace and SVG optimisers do):
-/// `M` to the first point, then relative commands, `c` per cubic or `l`/`h`/`v` where a
-/// cubic is straight, and `z`. Every point is first rounded to the grid of `precision`
+/// Path data of one closed contour, written compactly by [`CompactPath`]: `M` to the
+/// first point, then relative commands, `c` per cubic or `l`/`h`/`v` where a cubic is
+/// straight, and `z`. Every point is first rounded to the grid of `precision`
 /// decimals and each relative offset is the difference of two rounded points, so the
 /// written path lands exactly on the rounded points (no drift along the contour). Where a
 /// segment does not start where the previous one ended (after rounding), an `l` bridges
-/// the gap rather than hiding it. A command letter is not repeated for consecutive
-/// commands of the same kind, a number's leading `0` is dropped (`.5`), and no separator
-/// is written before a minus sign or before a `.` that follows a number with a `.`.
+/// the gap rather than hiding it.
 pub(crate) fn contour_path_data(
     contour: &FittedContour,
     merged: &[MergedCurve],
@@ -210,7 +194,7 @@ pub(crate) fn contour_path_data(
     if !finite {
         return ContourPath::NonFinite;
     }
-    let mut w = PathWriter::new(precision);
+    let mut w = CompactPath::new(precision);
     let mut pen = w.grid(pieces[0].0);
     w.command('M');
     w.number(pen.0);
@@ -241,7 +225,7 @@ pub(crate) fn contour_path_data(
         }
     }
     w.command('z');
-    ContourPath::Data(w.out)
+    ContourPath::Data(w.finish())
 }
 
 /// True when a cubic draws a straight line from its start to its end: both inner control
@@ -262,161 +246,12 @@ fn is_straight(c: &CubicBez, tolerance: f64) -> bool {
     })
 }
 
-/// Writes path data on the grid of a fixed number of decimals, with the compact number
-/// syntax described at [`contour_path_data`].
-struct PathWriter {
-    out: String,
-    /// Grid units per pixel: 10^precision.
-    scale: f64,
-    precision: usize,
-    /// The last command letter written.
-    last_command: char,
-    /// Whether the last thing written is a number containing a `.` (a following `.5`
-    /// then needs no separator), a number without one, or a command letter.
-    last: Last,
-}
-
-#[derive(Clone, Copy, PartialEq)]
-enum Last {
-    Command,
-    Integer,
-    Decimal,
-}
-
-impl PathWriter {
-    fn new(precision: usize) -> PathWriter {
-        let precision = precision.min(MAX_PRECISION);
-        let scale = 10f64.powi(precision as i32);
-        PathWriter {
-            out: String::new(),
-            scale,
-            precision,
-            last_command: ' ',
-            last: Last::Command,
-        }
-    }
-
-    /// Half a grid unit, in pixels: the most rounding moves a coordinate.
-    fn half_unit(&self) -> f64 {
-        0.5 / self.scale
-    }
-
-    /// `p` in grid units.
-    fn grid(&self, p: Point) -> (i128, i128) {
-        (
-            (p.x * self.scale).round() as i128,
-            (p.y * self.scale).round() as i128,
-        )
-    }
-
-    /// Writes `letter` unless it repeats the last command (SVG repeats it implicitly).
-    fn command(&mut self, letter: char) {
-        if letter != self.last_command {
-            self.out.push(letter);
-            self.last_command = letter;
-            self.last = Last::Command;
-        }
-    }
-
-    /// A line from `from` to `to` (grid units): `h` or `v` when axis-parallel.
-    fn line(&mut self, from: (i128, i128), to: (i128, i128)) {
-        let (dx, dy) = (to.0 - from.0, to.1 - from.1);
-        if dy == 0 {
-            self.command('h');
-            self.number(dx);
-        } else if dx == 0 {
-            self.command('v');
-            self.number(dy);
-        } else {
-            self.command('l');
-            self.number(dx);
-            self.number(dy);
-        }
-    }
-
-    /// Writes `units` grid units as a decimal number.
-    fn number(&mut self, units: i128) {
-        let p = self.precision;
-        let digits = format!("{:0width$}", units.unsigned_abs(), width = p + 1);
-        let (int, frac) = digits.split_at(digits.len() - p);
-        let frac = frac.trim_end_matches('0');
-        let mut text = String::new();
-        if units < 0 {
-            text.push('-');
-        }
-        // `0.5` as `.5`.
-        if int != "0" || frac.is_empty() {
-            text.push_str(int);
-        }
-        if !frac.is_empty() {
-            text.push('.');
-            text.push_str(frac);
-        }
-        let starts_with_point = text.starts_with('.');
-        let separator = match self.last {
-            Last::Command => false,
-            _ if text.starts_with('-') => false,
-            Last::Decimal => !starts_with_point,
-            Last::Integer => true,
-        };
-        if separator {
-            self.out.push(' ');
-        }
-        self.last = if text.contains('.') {
-            Last::Decimal
-        } else {
-            Last::Integer
-        };
-        self.out.push_str(&text);
-    }
-}
-
-/// `x y` with [`write_number`].
-pub(crate) fn write_point(out: &mut String, p: Point, precision: usize) {
-    write_number(out, p.x, precision);
-    out.push(' ');
-    write_number(out, p.y, precision);
-}
-
-/// Appends `x` rounded to `precision` decimals (at most [`MAX_PRECISION`]), with trailing
-/// zeros and a trailing point trimmed and `-0` written as `0`: `12.5`, `3`, `-0.001`.
-/// Non-finite values, which callers filter out beforehand, are written as `0` so that the
-/// document stays valid.
-pub(crate) fn write_number(out: &mut String, x: f64, precision: usize) {
-    if !x.is_finite() {
-        out.push('0');
-        return;
-    }
-    let s = format!("{:.*}", precision.min(MAX_PRECISION), x);
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.')
-    } else {
-        s.as_str()
-    };
-    out.push_str(if s == "-0" { "0" } else { s });
-}
-
-/// Escapes `&`, `<`, `>`, `"` and `'` for use inside a double-quoted attribute.
-pub(crate) fn escape_attribute(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for ch in s.chars() {
-        match ch {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
     use crate::curve::{approximate_with_cubics, RationalCubic};
     use crate::fit::{FittedSegment, Joint, JointKind, SegmentError};
+    use crate::geom::Point;
     use crate::trace::ImageInfo;
     use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_4, SQRT_2};
 
@@ -552,28 +387,6 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn numbers_are_short_exact_and_never_negative_zero() {
-        let f = |x: f64, p: usize| {
-            let mut s = String::new();
-            write_number(&mut s, x, p);
-            s
-        };
-        assert_eq!(f(12.5, 3), "12.5");
-        assert_eq!(f(12.0, 3), "12");
-        assert_eq!(f(100.0, 3), "100");
-        assert_eq!(f(0.0, 3), "0");
-        assert_eq!(f(-0.0, 3), "0");
-        assert_eq!(f(-0.0004, 3), "0");
-        assert_eq!(f(-0.0006, 3), "-0.001");
-        assert_eq!(f(1.23456, 3), "1.235");
-        assert_eq!(f(1.23456, 1), "1.2");
-        assert_eq!(f(7.6, 0), "8");
-        assert_eq!(f(1.0 / 3.0, 40), "0.333333333333");
-        assert_eq!(f(f64::NAN, 3), "0");
-        assert_eq!(f(1e6 + 0.25, 3), "1000000.25");
-    }
-
-    #[test]
     fn circle_path_has_every_coordinate_right() {
         let c = circle(Point::new(30.0, 20.0), 12.0, false, None);
         let svg = to_svg(&result(64, 48, vec![c.clone()]), &SvgOptions::default());
@@ -629,7 +442,7 @@ pub(crate) mod tests {
             &SvgOptions::default(),
         );
         assert!(svg.starts_with(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"64\" height=\"64\" viewBox=\"0 0 64 64\">"
+            "<svg height=\"64\" viewBox=\"0 0 64 64\" width=\"64\" xmlns=\"http://www.w3.org/2000/svg\">"
         ));
         assert!(svg.ends_with("</svg>\n"));
         let data = path_data(&svg);
@@ -740,21 +553,6 @@ pub(crate) mod tests {
             assert!((d - 5.0).abs() < 1e-12);
         }
     }
-    #[test]
-    fn compact_numbers_keep_their_separators() {
-        let mut w = PathWriter::new(2);
-        w.command('M');
-        for units in [1250, -5, 50, 7, -120, 0, 3, 100] {
-            w.number(units);
-        }
-        assert_eq!(w.out, "M12.5-.05.5.07-1.2 0 .03 1");
-        let mut w = PathWriter::new(0);
-        w.command('c');
-        w.number(-3);
-        w.number(4);
-        assert_eq!(w.out, "c-3 4");
-    }
-
     #[test]
     fn relative_path_lands_on_the_rounded_points_without_drift() {
         // A long contour of many small cubics with awkward coordinates: every written end

@@ -6,9 +6,8 @@
 //! simply skips those samples (the control disks are drawn as dashed circles beside it).
 
 use crate::curve::wang_ball::DiskWangBall;
-use crate::export::svg::escape_attribute;
-use crate::geom::Point;
-use std::fmt::Write as _;
+use crate::export::document::{Circle, Document, Group, Path, PathData, Rectangle, Text};
+use crate::geom::{Bounds, Point};
 
 /// Samples per curve for center lines and envelopes.
 const SAMPLES: usize = 200;
@@ -24,6 +23,19 @@ pub fn envelope(curve: &DiskWangBall, samples: usize) -> Vec<Option<(Point, Poin
             envelope_points(d.center, d.radius, dc, dr)
         })
         .collect()
+}
+
+/// The closed polygon of the envelope band: the `+` side forwards, then the `−` side
+/// backwards, over the samples where both exist. `None` when fewer than two samples have
+/// envelope points or some point is not finite.
+pub fn envelope_band(curve: &DiskWangBall, samples: usize) -> Option<Vec<Point>> {
+    let env: Vec<(Point, Point)> = envelope(curve, samples).into_iter().flatten().collect();
+    let band: Vec<Point> = env
+        .iter()
+        .map(|e| e.0)
+        .chain(env.iter().rev().map(|e| e.1))
+        .collect();
+    (env.len() >= 2 && band.iter().all(|p| p.is_finite())).then_some(band)
 }
 
 /// The two envelope points of the circle family at one parameter.
@@ -51,93 +63,97 @@ pub struct Layer<'a> {
 /// square: for each layer in order (later ones on top) the envelope band (translucent), the
 /// center line and the control disks (dashed circles), and a legend.
 pub fn to_svg(layers: &[Layer<'_>]) -> String {
-    let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
-    let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
-    let mut grow = |p: Point, r: f64| {
-        if p.is_finite() && r.is_finite() {
-            lo = Point::new(lo.x.min(p.x - r), lo.y.min(p.y - r));
-            hi = Point::new(hi.x.max(p.x + r), hi.y.max(p.y + r));
-        }
-    };
     // Frame the curves themselves: control disks of merged curves can lie far away (they
     // are drawn where they fall inside the frame).
+    let mut frame = Bounds::EMPTY;
     for l in layers {
         for i in 0..=SAMPLES {
             let d = l.curve.eval(i as f64 / SAMPLES as f64);
-            grow(d.center, d.radius.abs());
+            frame.add_disk(d.center, d.radius);
         }
     }
-    if !(lo.x.is_finite() && hi.x.is_finite()) {
-        lo = Point::ZERO;
-        hi = Point::new(1.0, 1.0);
-    }
-    let side = (hi.x - lo.x).max(hi.y - lo.y).max(1e-9);
+    let frame = frame.or_unit();
+    let side = frame.extent().max(1e-9);
     let margin = 0.05 * side;
     let scale = 800.0 / (side + 2.0 * margin);
     // Picture coordinates: x right, y down.
-    let map = |p: Point| Point::new((p.x - lo.x + margin) * scale, (hi.y - p.y + margin) * scale);
-    let width = ((hi.x - lo.x + 2.0 * margin) * scale).ceil();
-    let height = ((hi.y - lo.y + 2.0 * margin) * scale).ceil();
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{}\" viewBox=\"0 0 {width} {}\">",
-        height + 20.0 * layers.len() as f64 + 10.0,
-        height + 20.0 * layers.len() as f64 + 10.0
+    let map = |p: Point| {
+        Point::new(
+            (p.x - frame.min.x + margin) * scale,
+            (frame.max.y - p.y + margin) * scale,
+        )
+    };
+    let width = ((frame.width() + 2.0 * margin) * scale).ceil();
+    let height = ((frame.height() + 2.0 * margin) * scale).ceil();
+    let total_height = height + 20.0 * layers.len() as f64 + 10.0;
+    let mut doc = Document::new(width, total_height, [0.0, 0.0, width, total_height], 2);
+    doc.add(
+        Rectangle::new()
+            .set("width", "100%")
+            .set("height", "100%")
+            .set("fill", "white"),
     );
-    let _ = writeln!(out, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
     for (k, l) in layers.iter().enumerate() {
-        let _ = writeln!(out, "<g id=\"curve-{k}\">");
-        let env = envelope(l.curve, SAMPLES);
-        let upper: Vec<Point> = env.iter().flatten().map(|e| map(e.0)).collect();
-        let lower: Vec<Point> = env.iter().flatten().map(|e| map(e.1)).collect();
-        if upper.len() >= 2 {
-            let mut d = String::new();
-            for (i, p) in upper.iter().chain(lower.iter().rev()).enumerate() {
-                let _ = write!(d, "{}{:.2} {:.2}", if i == 0 { "M" } else { "L" }, p.x, p.y);
-            }
-            d.push('Z');
-            let _ = writeln!(
-                out,
-                "<path d=\"{d}\" fill=\"{c}\" fill-opacity=\"0.2\" stroke=\"{c}\" stroke-width=\"0.8\"/>",
-                c = l.colour
+        let mut g = Group::new().set("id", format!("curve-{k}"));
+        if let Some(band) = envelope_band(l.curve, SAMPLES) {
+            let mut d = PathData::new(PRECISION);
+            d.polyline(band.into_iter().map(map));
+            d.close();
+            g = g.add(
+                Path::new()
+                    .set("d", d.finish())
+                    .set("fill", l.colour)
+                    .set("fill-opacity", 0.2)
+                    .set("stroke", l.colour)
+                    .set("stroke-width", 0.8),
             );
         }
-        let mut d = String::new();
-        for i in 0..=SAMPLES {
-            let p = map(l.curve.center(i as f64 / SAMPLES as f64));
-            let _ = write!(d, "{}{:.2} {:.2}", if i == 0 { "M" } else { "L" }, p.x, p.y);
-        }
-        let _ = writeln!(
-            out,
-            "<path d=\"{d}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>",
-            l.colour
+        let mut d = PathData::new(PRECISION);
+        d.polyline((0..=SAMPLES).map(|i| map(l.curve.center(i as f64 / SAMPLES as f64))));
+        g = g.add(
+            Path::new()
+                .set("d", d.finish())
+                .set("fill", "none")
+                .set("stroke", l.colour)
+                .set("stroke-width", 2),
         );
         for disk in &l.curve.disks {
             let p = map(disk.center);
-            let _ = writeln!(
-                out,
-                "<circle cx=\"{:.2}\" cy=\"{:.2}\" r=\"{:.2}\" fill=\"none\" stroke=\"{}\" stroke-dasharray=\"4 3\" stroke-width=\"0.8\"/>",
-                p.x,
-                p.y,
-                (disk.radius.abs() * scale).max(1.5),
-                l.colour
+            let n = |x: f64| crate::export::document::number(x, PRECISION);
+            g = g.add(
+                Circle::new()
+                    .set("cx", n(p.x))
+                    .set("cy", n(p.y))
+                    .set("r", n((disk.radius.abs() * scale).max(1.5)))
+                    .set("fill", "none")
+                    .set("stroke", l.colour)
+                    .set("stroke-dasharray", "4 3")
+                    .set("stroke-width", 0.8),
             );
         }
-        let _ = writeln!(out, "</g>");
+        doc.add(g);
         let y = height + 20.0 * k as f64 + 15.0;
-        let _ = writeln!(
-            out,
-            "<rect x=\"10\" y=\"{:.0}\" width=\"14\" height=\"10\" fill=\"{}\"/><text x=\"30\" y=\"{:.0}\" font-family=\"sans-serif\" font-size=\"13\">{}</text>",
-            y - 9.0,
-            l.colour,
-            y,
-            escape_attribute(l.label)
+        doc.add(
+            Rectangle::new()
+                .set("x", 10)
+                .set("y", y - 9.0)
+                .set("width", 14)
+                .set("height", 10)
+                .set("fill", l.colour),
+        );
+        doc.add(
+            Text::new(l.label)
+                .set("x", 30)
+                .set("y", y)
+                .set("font-family", "sans-serif")
+                .set("font-size", 13),
         );
     }
-    out.push_str("</svg>\n");
-    out
+    doc.finish()
 }
+
+/// Decimals of the picture's coordinates (in an 800-px frame).
+const PRECISION: usize = 2;
 
 #[cfg(test)]
 mod tests {

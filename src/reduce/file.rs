@@ -9,9 +9,11 @@
 use super::Reduction;
 use crate::curve::sg_bezier::{SgBezier, SgShape};
 use crate::error::{Error, Result};
-use crate::geom::Point;
+use crate::export::document::{
+    decimals_for, number, points_attribute, Circle, Document, Polyline, Rectangle, Title,
+};
+use crate::geom::{Bounds, Point};
 use serde::Deserialize;
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// The JSON layout of a curve file.
@@ -90,108 +92,95 @@ fn samples(curve: &SgBezier, count: usize) -> Result<Vec<Point>> {
 /// An SVG picture of a reduction: the original curve (blue, solid) and the reduced one
 /// (red, dashed) as sampled polylines, with both control polygons and their points (light
 /// blue and light red). Coordinates are the curves' own (y downwards, as everywhere in
-/// outlinefit); the `viewBox` is their bounding box with a 5 % margin, drawn 800 px wide.
+/// outlinefit); the `viewBox` is their bounding box with a 5 % margin, drawn 800 px wide,
+/// with coordinates to a hundredth of a drawn pixel.
 ///
 /// Errors: [`Error::InvalidInput`] when a curve's fields are inconsistent.
 pub fn reduction_svg(original: &SgBezier, reduced: &Reduction) -> Result<String> {
     let p = samples(original, 400)?;
     let q = samples(&reduced.curve, 400)?;
-    let all = p
-        .iter()
-        .chain(&q)
-        .chain(&original.points)
-        .chain(&reduced.curve.points);
-    let (mut lo, mut hi) = (
-        Point::new(f64::INFINITY, f64::INFINITY),
-        Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-    );
-    for v in all {
-        lo = Point::new(lo.x.min(v.x), lo.y.min(v.y));
-        hi = Point::new(hi.x.max(v.x), hi.y.max(v.y));
-    }
-    let extent = (hi.x - lo.x).max(hi.y - lo.y);
+    let frame = Bounds::of(
+        p.iter()
+            .chain(&q)
+            .chain(&original.points)
+            .chain(&reduced.curve.points)
+            .copied(),
+    )
+    .or_unit();
+    let extent = frame.extent();
     let extent = if extent > 0.0 && extent.is_finite() {
         extent
     } else {
         1.0
     };
     let margin = 0.05 * extent;
-    let (x0, y0) = (lo.x - margin, lo.y - margin);
+    let (x0, y0) = (frame.min.x - margin, frame.min.y - margin);
     let (w, h) = (
-        (hi.x - lo.x).max(0.0) + 2.0 * margin,
-        (hi.y - lo.y).max(0.0) + 2.0 * margin,
+        frame.width().max(0.0) + 2.0 * margin,
+        frame.height().max(0.0) + 2.0 * margin,
     );
-    let stroke = 0.004 * extent;
-    let dot = 0.008 * extent;
     let width_px = 800.0;
     let height_px = (width_px * h / w).clamp(100.0, 2400.0);
-    let mut s = String::new();
-    // Writing into a String cannot fail, so the fmt::Results below are ignored.
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width_px}" height="{height_px:.0}" viewBox="{x0} {y0} {w} {h}">"#
-    );
-    let _ = writeln!(
-        s,
-        "<title>degree {} to {} ({}, {}): error {:e}</title>",
+    let precision = decimals_for(w / width_px / 100.0);
+    let n = |x: f64| number(x, precision);
+    let stroke = 0.004 * extent;
+    let dot = n(0.008 * extent);
+    let mut doc = Document::new(width_px, height_px.round(), [x0, y0, w, h], precision);
+    doc.add(Title::new(format!(
+        "degree {} to {} ({}, {}): error {:e}",
         original.degree(),
         reduced.curve.degree(),
         reduced.constraint,
         reduced.method,
         reduced.error
+    )));
+    doc.add(
+        Rectangle::new()
+            .set("x", n(x0))
+            .set("y", n(y0))
+            .set("width", n(w))
+            .set("height", n(h))
+            .set("fill", "white"),
     );
-    let _ = writeln!(
-        s,
-        r#"<rect x="{x0}" y="{y0}" width="{w}" height="{h}" fill="white"/>"#
-    );
-    let polyline = |s: &mut String, pts: &[Point], style: &str| {
-        let coords: Vec<String> = pts.iter().map(|p| format!("{},{}", p.x, p.y)).collect();
-        let _ = writeln!(
-            s,
-            r#"<polyline fill="none" {style} points="{}"/>"#,
-            coords.join(" ")
-        );
+    let polyline = |pts: &[Point], colour: &str, width: f64, dashes: Option<(f64, f64)>| {
+        let line = Polyline::new()
+            .set("fill", "none")
+            .set("stroke", colour)
+            .set("stroke-width", n(width))
+            .set("points", points_attribute(pts, precision));
+        match dashes {
+            Some((on, off)) => line.set("stroke-dasharray", format!("{} {}", n(on), n(off))),
+            None => line,
+        }
     };
-    let dots = |s: &mut String, pts: &[Point], color: &str| {
+    let dots = |doc: &mut Document, pts: &[Point], colour: &str| {
         for p in pts {
-            let _ = writeln!(
-                s,
-                r#"<circle cx="{}" cy="{}" r="{dot}" fill="{color}"/>"#,
-                p.x, p.y
+            doc.add(
+                Circle::new()
+                    .set("cx", n(p.x))
+                    .set("cy", n(p.y))
+                    .set("r", dot.as_str())
+                    .set("fill", colour),
             );
         }
     };
+    let (light_blue, light_red) = ("#8fb3e0", "#e8a0a0");
     let half = stroke * 0.5;
-    polyline(
-        &mut s,
-        &original.points,
-        &format!(r##"stroke="#8fb3e0" stroke-width="{half}""##),
-    );
-    polyline(
-        &mut s,
+    doc.add(polyline(&original.points, light_blue, half, None));
+    doc.add(polyline(
         &reduced.curve.points,
-        &format!(
-            r##"stroke="#e8a0a0" stroke-width="{half}" stroke-dasharray="{} {}""##,
-            4.0 * stroke,
-            2.0 * stroke
-        ),
-    );
-    dots(&mut s, &original.points, "#8fb3e0");
-    dots(&mut s, &reduced.curve.points, "#e8a0a0");
-    polyline(
-        &mut s,
-        &p,
-        &format!(r##"stroke="#1f5fbf" stroke-width="{stroke}""##),
-    );
-    polyline(
-        &mut s,
+        light_red,
+        half,
+        Some((4.0 * stroke, 2.0 * stroke)),
+    ));
+    dots(&mut doc, &original.points, light_blue);
+    dots(&mut doc, &reduced.curve.points, light_red);
+    doc.add(polyline(&p, "#1f5fbf", stroke, None));
+    doc.add(polyline(
         &q,
-        &format!(
-            r##"stroke="#d02020" stroke-width="{stroke}" stroke-dasharray="{} {}""##,
-            2.0 * stroke,
-            2.0 * stroke
-        ),
-    );
-    s.push_str("</svg>\n");
-    Ok(s)
+        "#d02020",
+        stroke,
+        Some((2.0 * stroke, 2.0 * stroke)),
+    ));
+    Ok(doc.finish())
 }
