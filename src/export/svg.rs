@@ -15,7 +15,7 @@
 //! JSON report.
 //!
 //! The document uses input pixel units (`viewBox="0 0 W H"`, x right, y down) and is
-//! written by [`super::document`], the writer all pictures share: numbers get fixed
+//! written by `export::document`, the writer all pictures share: numbers get fixed
 //! decimals, trailing zeros trimmed, never `-0`, so identical results give byte-identical
 //! files. Points are rounded to `precision` decimals, which moves them by at most half a
 //! unit of the last decimal (0.005 px by default), on top of the approximation bound;
