@@ -85,6 +85,53 @@ impl BSpline {
         }
         p
     }
+
+    /// The parameter interval [t_{k−1}, t_n] on which the curve is defined.
+    pub fn domain(&self) -> (f64, f64) {
+        let n = self.control_points.len();
+        (self.knots[self.order - 1], self.knots[n])
+    }
+
+    /// The derivative as a B-spline: order k − 1 on the knots without the first and the
+    /// last, control points (k − 1)(P_{i+1} − P_i)/(t_{i+k} − t_{i+1}) (zero where the
+    /// knots coincide). `None` for order 1 (or one control point), whose derivative is zero
+    /// wherever it exists.
+    pub fn derivative_curve(&self) -> Option<BSpline> {
+        let (k, n) = (self.order, self.control_points.len());
+        if k < 2 || n < 2 {
+            return None;
+        }
+        let t = &self.knots;
+        let control_points = (0..n - 1)
+            .map(|i| {
+                let h = t[i + k] - t[i + 1];
+                if h > 0.0 {
+                    (self.control_points[i + 1] - self.control_points[i]) * ((k - 1) as f64 / h)
+                } else {
+                    Point::ZERO
+                }
+            })
+            .collect();
+        Some(BSpline {
+            order: k - 1,
+            knots: t[1..t.len() - 1].to_vec(),
+            control_points,
+        })
+    }
+}
+
+impl crate::curve::param_curve::ParamCurve for BSpline {
+    fn domain(&self) -> (f64, f64) {
+        BSpline::domain(self)
+    }
+
+    fn point(&self, u: f64) -> Point {
+        BSpline::point(self, u)
+    }
+
+    fn derivative(&self, u: f64) -> Point {
+        self.derivative_curve().map_or(Point::ZERO, |d| d.point(u))
+    }
 }
 
 #[cfg(test)]
@@ -149,5 +196,27 @@ mod tests {
             let p = s.point(u);
             assert!((p.x - u).abs() < 1e-14 && (p.y - 2.0 * u).abs() < 1e-14);
         }
+    }
+
+    #[test]
+    fn b_spline_answers_the_curve_trait() {
+        // Uneven knots, a repeated inner knot (C1 there), and a domain other than [0, 1].
+        let s = BSpline {
+            order: 4,
+            knots: vec![1.0, 1.0, 1.0, 1.0, 1.5, 2.2, 2.2, 3.0, 3.0, 3.0, 3.0],
+            control_points: vec![
+                Point::new(0.0, 0.0),
+                Point::new(0.5, 1.5),
+                Point::new(1.5, 2.0),
+                Point::new(2.0, 0.0),
+                Point::new(3.0, -1.0),
+                Point::new(3.5, 0.5),
+                Point::new(4.0, 1.0),
+            ],
+        };
+        crate::curve::param_curve::tests::check_curve(&s, "B-spline");
+        // The clamped ends: P'(a) = (k − 1)(P1 − P0)/(t_k − t_1).
+        let d = crate::curve::param_curve::ParamCurve::derivative(&s, 1.0);
+        assert!((d - Point::new(0.5, 1.5) * (3.0 / 0.5)).length() < 1e-12);
     }
 }

@@ -4,6 +4,7 @@
 pub mod approx;
 pub mod basis;
 pub mod cubic;
+pub mod param_curve;
 pub mod power;
 pub mod rational;
 pub mod sg_bezier;
@@ -11,4 +12,5 @@ pub mod wang_ball;
 
 pub use approx::approximate_with_cubics;
 pub use cubic::CubicBez;
+pub use param_curve::ParamCurve;
 pub use rational::{bernstein, rational_basis, RationalCubic};

@@ -5,6 +5,7 @@
 //! disk contains its neighbours and the envelope has no point there, so the band polygon
 //! simply skips those samples (the control disks are drawn as dashed circles beside it).
 
+use crate::curve::param_curve::ParamCurve as _;
 use crate::curve::wang_ball::DiskWangBall;
 use crate::export::document::{Circle, Document, Group, Path, PathData, Rectangle, Text};
 use crate::geom::{Bounds, Point};
@@ -109,7 +110,7 @@ pub fn to_svg(layers: &[Layer<'_>]) -> String {
             );
         }
         let mut d = PathData::new(PRECISION);
-        d.polyline((0..=SAMPLES).map(|i| map(l.curve.center(i as f64 / SAMPLES as f64))));
+        d.polyline(l.curve.sample(SAMPLES).into_iter().map(map));
         g = g.add(
             Path::new()
                 .set("d", d.finish())

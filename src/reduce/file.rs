@@ -7,6 +7,7 @@
 //! such as `"lamda"` is not silently ignored.
 
 use super::Reduction;
+use crate::curve::param_curve::ParamCurve as _;
 use crate::curve::sg_bezier::{SgBezier, SgShape};
 use crate::error::{Error, Result};
 use crate::export::document::{
@@ -75,20 +76,6 @@ pub fn read_curve_json(path: &Path) -> Result<SgBezier> {
     parse_curve_json(&text, &path.display().to_string())
 }
 
-/// Points on `curve` at `count + 1` evenly spaced parameters (a polyline for drawing).
-fn samples(curve: &SgBezier, count: usize) -> Result<Vec<Point>> {
-    (0..=count)
-        .map(|i| {
-            curve
-                .try_eval(i as f64 / count as f64)
-                .map_err(|e| Error::InvalidInput {
-                    what: "curve".to_string(),
-                    message: e.to_string(),
-                })
-        })
-        .collect()
-}
-
 /// An SVG picture of a reduction: the original curve (blue, solid) and the reduced one
 /// (red, dashed) as sampled polylines, with both control polygons and their points (light
 /// blue and light red). Coordinates are the curves' own (y downwards, as everywhere in
@@ -97,8 +84,14 @@ fn samples(curve: &SgBezier, count: usize) -> Result<Vec<Point>> {
 ///
 /// Errors: [`Error::InvalidInput`] when a curve's fields are inconsistent.
 pub fn reduction_svg(original: &SgBezier, reduced: &Reduction) -> Result<String> {
-    let p = samples(original, 400)?;
-    let q = samples(&reduced.curve, 400)?;
+    for curve in [original, &reduced.curve] {
+        curve.validate().map_err(|e| Error::InvalidInput {
+            what: "curve".to_string(),
+            message: e.to_string(),
+        })?;
+    }
+    let p = original.sample(400);
+    let q = reduced.curve.sample(400);
     let frame = Bounds::of(
         p.iter()
             .chain(&q)
