@@ -108,7 +108,7 @@ impl Config {
         budget: 5000,
         search_box_scale: 1.0,
         history: false,
-        seed: 1,
+        seed: crate::optim::DEFAULT_SEED,
         timings: true,
         merge: false,
         merge_degree: 5,

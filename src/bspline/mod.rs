@@ -104,7 +104,7 @@ impl Default for ConvertOptions {
             order: DEFAULT_ORDER,
             method: DEFAULT_METHOD.to_string(),
             budget: DEFAULT_BUDGET,
-            seed: 1,
+            seed: crate::optim::DEFAULT_SEED,
             feature_grid: features::DEFAULT_GRID,
             fit: FitTarget::default(),
         }

@@ -48,7 +48,7 @@ pub(crate) struct BsplineArgs {
     #[arg(long, default_value_t = bs::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of the optimizer; the same seed gives the same output.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = outlinefit::optim::DEFAULT_SEED, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Grid intervals of the curvature scan that finds the feature points.
     #[arg(long, default_value_t = bs::features::DEFAULT_GRID, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]

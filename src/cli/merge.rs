@@ -36,7 +36,7 @@ pub(crate) struct MergeArgs {
     #[arg(long, default_value_t = outlinefit::merge::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of a metaheuristic's random choices.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = outlinefit::optim::DEFAULT_SEED, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Metaheuristics search centers within this many times the input's extent around it.
     #[arg(

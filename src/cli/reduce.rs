@@ -39,7 +39,7 @@ pub(crate) struct ReduceArgs {
     #[arg(long, default_value_t = outlinefit::reduce::DEFAULT_BUDGET, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
     budget: u64,
     /// Seed of a metaheuristic's random choices; the same seed gives the same output.
-    #[arg(long, default_value_t = 1, value_name = "S", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = outlinefit::optim::DEFAULT_SEED, value_name = "S", allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// With `exact`: the reduced curve's global shape parameter ω (the paper uses
     /// 0 ≤ ω ≤ 1). Default 0 (plain Bézier).

@@ -52,7 +52,7 @@ pub(crate) struct SurfaceArgs {
     runs: Option<usize>,
     /// Seed of the searches and of --example's noise; the same seed gives the same output
     /// on any number of threads.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = outlinefit::optim::DEFAULT_SEED, allow_negative_numbers = true, value_parser = whole::<u64>)]
     seed: u64,
     /// Samples per parameter of the OBJ mesh (at least 2).
     #[arg(long, default_value_t = 50, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]

@@ -41,6 +41,10 @@ pub use problem::{
     Tracker,
 };
 
+/// The seed every command and options type starts from unless told otherwise (the same
+/// seed gives the same output on any number of threads).
+pub const DEFAULT_SEED: u64 = 1;
+
 /// The metaheuristics of the papers, as a closed set: what a caller names instead of a
 /// string. [`Algorithm::name`] is the command-line and report name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

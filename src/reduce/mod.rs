@@ -149,7 +149,7 @@ impl ReduceOptions {
             method: "exact".to_string(),
             shape: None,
             budget: DEFAULT_BUDGET,
-            seed: 1,
+            seed: crate::optim::DEFAULT_SEED,
         }
     }
 }

@@ -124,7 +124,7 @@ impl Default for SurfaceOptions {
             degree: (5, 5),
             method: ParamMethod::Correct,
             budget: DEFAULT_BUDGET,
-            seed: 1,
+            seed: crate::optim::DEFAULT_SEED,
         }
     }
 }
