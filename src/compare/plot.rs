@@ -1279,45 +1279,4 @@ mod tests {
             segment_errors("d", &optimizers, &errors, Some(&reference)).unwrap()
         );
     }
-
-    /// Writes one example of each chart to the temporary directory, for looking at them.
-    #[test]
-    #[ignore = "writes example SVGs to the temporary directory"]
-    fn write_examples() {
-        let dir = std::env::temp_dir();
-        let conv = convergence(
-            "Convergence on letter S",
-            &every(5000),
-            &example_convergence(),
-        )
-        .unwrap();
-        std::fs::write(dir.join("outlinefit-convergence.svg"), conv).unwrap();
-        let mut rand = lcg(9);
-        let groups: Vec<(String, Vec<f64>)> = [("hs", 0.01), ("ga", 0.1), ("pso", 3.0)]
-            .iter()
-            .map(|&(n, m)| {
-                (
-                    n.to_string(),
-                    (0..30).map(|_| m * (0.5 + rand() * rand() * 4.0)).collect(),
-                )
-            })
-            .chain(std::iter::once(("lsq".to_string(), vec![0.004; 30])))
-            .collect();
-        let bx = boxplot("Final total error, 30 runs", &groups).unwrap();
-        std::fs::write(dir.join("outlinefit-boxplot.svg"), bx).unwrap();
-        let names: Vec<String> = ["hs", "ga", "pso"].iter().map(|s| s.to_string()).collect();
-        let reference: Vec<f64> = (0..24).map(|_| 1e-3 * (0.2 + 5.0 * rand())).collect();
-        let errors: Vec<Vec<f64>> = [2.0, 8.0, 60.0]
-            .iter()
-            .map(|&f| reference.iter().map(|r| r * (1.0 + f * rand())).collect())
-            .collect();
-        let seg = segment_errors(
-            "Minimum error per segment",
-            &names,
-            &errors,
-            Some(&reference),
-        )
-        .unwrap();
-        std::fs::write(dir.join("outlinefit-segments.svg"), seg).unwrap();
-    }
 }
