@@ -19,7 +19,7 @@ use super::meta::{finish_segment, on_boundary, rebuild, run_optimizer, MetaOptio
 use super::{FittedContour, FittedSegment};
 use crate::curve::rational::{bernstein, RationalCubic};
 use crate::fit::JointKind;
-use crate::geom::Point;
+use crate::geom::{Bounds, Point};
 use crate::optim::{Optimizer, Problem};
 use crate::param::centripetal_parameters;
 use std::time::Instant;
@@ -58,11 +58,7 @@ impl<'a> SegmentProblem<'a> {
         max_weight: f64,
         box_scale: f64,
     ) -> Self {
-        let (mut lo, mut hi) = (points[0], points[0]);
-        for p in points {
-            lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-            hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-        }
+        let Bounds { min: lo, max: hi } = Bounds::of(points.iter().copied());
         let diag = (hi - lo).length().max(1e-9);
         // Eq. 9's box is the data's extent; `box_scale` > 1 widens it by (scale − 1)/2
         // diagonals on every side (the extent alone can exclude the optimum).

@@ -38,7 +38,7 @@ pub mod picture;
 
 use crate::curve::wang_ball::{merge_lambda, wang_ball_basis, Disk, DiskWangBall};
 use crate::error::{Error, Result};
-use crate::geom::Point;
+use crate::geom::{Bounds, Point};
 use crate::optim::{Optimizer, Problem, SeededRng};
 use crate::quad::GaussLegendre;
 use nalgebra::{DMatrix, DVector};
@@ -171,15 +171,8 @@ impl MergeProblem {
                 weights.push(wt);
             }
         }
-        let centers = a.disks.iter().chain(&b.disks).map(|d| d.center);
-        let (mut lo, mut hi) = (
-            Point::new(f64::INFINITY, f64::INFINITY),
-            Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-        );
-        for c in centers {
-            lo = Point::new(lo.x.min(c.x), lo.y.min(c.y));
-            hi = Point::new(hi.x.max(c.x), hi.y.max(c.y));
-        }
+        let Bounds { min: lo, max: hi } =
+            Bounds::of(a.disks.iter().chain(&b.disks).map(|d| d.center));
         let max_radius = a
             .disks
             .iter()
