@@ -435,14 +435,12 @@ impl Workspace {
     /// anchors and where the outline has turned by more than 60°. Returns whether an
     /// anchor (a corner) cut it short.
     fn collect_window(&self, i: usize, reach: f64, window: &mut Vec<WindowPoint>) -> bool {
-        let n = self.points.len();
-        let half = n / 2;
         let origin = self.points[i];
         let tangent = self.tangents[i];
         let normal = tangent.perp();
         let reach_squared = reach * reach;
         window.clear();
-        let mut add = |j: usize| -> bool {
+        let add = |j: usize| -> bool {
             let d = self.raw[j] - origin;
             let distance_squared = d.length_squared();
             if self.anchors[j]
@@ -461,6 +459,15 @@ impl Workspace {
             });
             true
         };
+        self.walk_window(i, add)
+    }
+
+    /// Walks the regression window around point `i`: `i` itself, then backwards and
+    /// forwards (at most half the contour each way, never all of it) while `add` accepts
+    /// the points. Returns whether an anchor just outside the window cut it short.
+    fn walk_window(&self, i: usize, mut add: impl FnMut(usize) -> bool) -> bool {
+        let n = self.points.len();
+        let half = n / 2;
         add(i);
         let mut back = 0;
         while back < half && add((i + n - back - 1) % n) {
@@ -627,7 +634,7 @@ impl Workspace {
             let inverse = 1.0 / (reach * reach);
             // The same walk as `collect_window`, fitted on the fly.
             let mut fit = QuadraticFit::default();
-            let mut add = |j: usize| -> bool {
+            let add = |j: usize| -> bool {
                 let corner = self.anchors[j];
                 let d = if corner {
                     self.points[j] - origin
@@ -651,18 +658,9 @@ impl Workspace {
                 // A corner ends the window.
                 !corner
             };
-            add(i);
-            let mut back = 0;
-            while back < half && add((i + n - back - 1) % n) {
-                back += 1;
-            }
-            let mut ahead = 0;
-            while ahead + back < n - 1 && ahead < half && add((i + ahead + 1) % n) {
-                ahead += 1;
-            }
             // A window cut short by a corner on one side cannot tell curvature from
             // offset: fit a line there.
-            let cut = self.anchors[(i + n - back - 1) % n] || self.anchors[(i + ahead + 1) % n];
+            let cut = self.walk_window(i, add);
             let solution = if cut { fit.solve_linear() } else { fit.solve() };
             match solution {
                 Some((a, b, c)) => {
