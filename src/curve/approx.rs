@@ -553,24 +553,14 @@ mod tests {
     /// A quarter circle of radius `r` around `center` starting at angle `phi`, exact as a
     /// rational cubic: the conic (w = cos 45°) degree-elevated, w1 = w2 = (1 + 2w) / 3.
     fn quarter_arc(center: Point, r: f64, phi: f64) -> RationalCubic {
-        let w = std::f64::consts::FRAC_1_SQRT_2;
         let at = |a: f64| center + Point::new(a.cos(), a.sin()) * r;
-        let (p0, p2) = (at(phi), at(phi + std::f64::consts::FRAC_PI_2));
         let p1 = center
             + Point::new(
                 (phi + std::f64::consts::FRAC_PI_4).cos(),
                 (phi + std::f64::consts::FRAC_PI_4).sin(),
             ) * (r * std::f64::consts::SQRT_2);
-        let w1 = (1.0 + 2.0 * w) / 3.0;
-        RationalCubic::new(
-            [
-                p0,
-                (p0 + p1 * (2.0 * w)) / (1.0 + 2.0 * w),
-                (p1 * (2.0 * w) + p2) / (1.0 + 2.0 * w),
-                p2,
-            ],
-            [w1, w1],
-        )
+        let p2 = at(phi + std::f64::consts::FRAC_PI_2);
+        RationalCubic::from_conic(at(phi), p1, p2, std::f64::consts::FRAC_1_SQRT_2)
     }
 
     #[test]

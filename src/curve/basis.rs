@@ -107,6 +107,23 @@ pub fn de_casteljau(points: &[Point], t: f64) -> Point {
     }
 }
 
+/// The control points of the same Bézier curve one degree higher:
+/// Q_i = (i/(n+1)) P_{i−1} + (1 − i/(n+1)) P_i for i = 0..=n+1.
+pub fn elevate(points: &[Point]) -> Vec<Point> {
+    let n = points.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let mut out = Vec::with_capacity(n + 1);
+    out.push(points[0]);
+    for i in 1..n {
+        let a = i as f64 / n as f64;
+        out.push(points[i - 1] * a + points[i] * (1.0 - a));
+    }
+    out.push(points[n - 1]);
+    out
+}
+
 /// Splits Bézier control points at `t` by de Casteljau's algorithm.
 pub fn de_casteljau_split(points: &[Point], t: f64) -> (Vec<Point>, Vec<Point>) {
     let n = points.len();
@@ -129,6 +146,23 @@ pub fn de_casteljau_split(points: &[Point], t: f64) -> (Vec<Point>, Vec<Point>) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn elevation_keeps_the_curve() {
+        let p = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 3.0),
+            Point::new(4.0, -1.0),
+            Point::new(5.0, 2.0),
+        ];
+        let q = elevate(&elevate(&p));
+        assert_eq!(q.len(), 6);
+        for k in 0..=10 {
+            let t = k as f64 / 10.0;
+            assert!(de_casteljau(&p, t).distance(de_casteljau(&q, t)) < 1e-13);
+        }
+        assert!(elevate(&[]).is_empty());
+    }
 
     #[test]
     fn binomials_are_exact_and_agree() {

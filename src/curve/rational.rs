@@ -51,6 +51,20 @@ impl RationalCubic {
         RationalCubic { points, weights }
     }
 
+    /// The conic arc with control points `p0`, `p1`, `p2` and middle weight `w` > 0 (end
+    /// weights 1), exactly, as a rational cubic: degree elevation gives
+    /// C1 = (P0 + 2w P1)/(1 + 2w), C2 = (2w P1 + P2)/(1 + 2w) and w1 = w2 = (1 + 2w)/3.
+    /// A circular arc of angle θ is the conic with `p1` where the end tangents cross and
+    /// w = cos(θ/2).
+    pub fn from_conic(p0: Point, p1: Point, p2: Point, w: f64) -> Self {
+        let s = 1.0 + 2.0 * w;
+        let inner = (1.0 + 2.0 * w) / 3.0;
+        RationalCubic::new(
+            [p0, (p0 + p1 * (2.0 * w)) / s, (p1 * (2.0 * w) + p2) / s, p2],
+            [inner, inner],
+        )
+    }
+
     /// All four weights (1, w1, w2, 1).
     #[inline]
     pub fn all_weights(&self) -> [f64; 4] {

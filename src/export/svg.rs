@@ -257,21 +257,10 @@ pub(crate) mod tests {
 
     /// A quarter circle as an exact rational cubic (degree-elevated conic, w = cos 45°).
     pub(crate) fn quarter_arc(center: Point, r: f64, from: f64, to: f64) -> RationalCubic {
-        let w = FRAC_1_SQRT_2;
         let at = |a: f64| center + Point::new(a.cos(), a.sin()) * r;
         let mid = 0.5 * (from + to);
-        let (p0, p2) = (at(from), at(to));
         let p1 = center + Point::new(mid.cos(), mid.sin()) * (r * SQRT_2);
-        let w1 = (1.0 + 2.0 * w) / 3.0;
-        RationalCubic::new(
-            [
-                p0,
-                (p0 + p1 * (2.0 * w)) / (1.0 + 2.0 * w),
-                (p1 * (2.0 * w) + p2) / (1.0 + 2.0 * w),
-                p2,
-            ],
-            [w1, w1],
-        )
+        RationalCubic::from_conic(at(from), p1, at(to), FRAC_1_SQRT_2)
     }
 
     fn segment(curve: RationalCubic) -> FittedSegment {

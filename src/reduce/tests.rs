@@ -1,4 +1,5 @@
 use super::*;
+use crate::curve::basis::elevate;
 
 /// Example 1 of the paper (§5): a plain Bézier curve of degree 6 (ω* = 0), polygon
 /// symmetric about x = 0.3.
@@ -45,24 +46,6 @@ impl Rng {
             .collect();
         SgShape::new(n, omega, lambda, mu).unwrap()
     }
-}
-
-/// Degree elevation of a Bézier control polygon by one.
-fn elevate(p: &[Point]) -> Vec<Point> {
-    let n = p.len() - 1;
-    let k = (n + 1) as f64;
-    (0..=n + 1)
-        .map(|i| {
-            let a = i as f64 / k;
-            let left = if i > 0 { p[i - 1] * a } else { Point::ZERO };
-            let right = if i <= n {
-                p[i] * (1.0 - a)
-            } else {
-                Point::ZERO
-            };
-            left + right
-        })
-        .collect()
 }
 
 /// P(0), P(1), P'(0), P'(1) of a curve, from its exact Bernstein form of degree n + 1

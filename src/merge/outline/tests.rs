@@ -33,16 +33,7 @@ fn c1_cubic_of_an_elevated_cubic_is_that_cubic() {
         Point::new(4.0, -1.0),
         Point::new(5.0, 2.0),
     ];
-    let elevate = |p: &[Point]| {
-        let n = p.len();
-        let mut q = vec![p[0]];
-        for i in 1..n {
-            let a = i as f64 / n as f64;
-            q.push(p[i - 1] * a + p[i] * (1.0 - a));
-        }
-        q.push(p[n - 1]);
-        q
-    };
+    let elevate = crate::curve::basis::elevate;
     let quint = elevate(&elevate(&c));
     let got = c1_cubic(&quint);
     for (g, w) in got.points.iter().zip(&c) {
