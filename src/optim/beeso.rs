@@ -57,9 +57,7 @@
 //! Written by hand: no maintained crate implements BEESO over a caller-seeded generator
 //! with an exact evaluation budget.
 
-use super::problem::{
-    clamp_to, random_point, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker,
-};
+use super::problem::{clamp_to, random_point, uniform, Optimizer, SeededRng, Tracker};
 use super::so::{random_sign, Phase, SnakeOptimizer, Swarm};
 use rand::RngExt;
 
@@ -200,17 +198,10 @@ impl Optimizer for Beeso {
         "beeso"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
+        let budget = tracker.remaining();
         // `None` only says the budget is spent; the tracker holds the result.
-        let _ = self.run(&mut tracker, budget, rng);
-        tracker.into_outcome()
+        let _ = self.run(tracker, budget, rng);
     }
 }
 
@@ -348,6 +339,7 @@ fn elite_opposite(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optim::problem::Problem;
     use crate::optim::testfns::{run_checked, Corner, Rastrigin, Rosenbrock, Sphere};
     use rand::SeedableRng;
 

@@ -36,9 +36,7 @@
 //! Written by hand: no maintained crate implements cuckoo search over a caller-seeded
 //! generator with an exact evaluation budget.
 
-use super::problem::{
-    clamp_to, random_point, standard_normal, Optimizer, Outcome, Problem, SeededRng,
-};
+use super::problem::{clamp_to, random_point, standard_normal, Optimizer, SeededRng};
 use super::problem::{uniform, Tracker};
 use rand::RngExt;
 
@@ -129,14 +127,8 @@ impl Optimizer for CuckooSearch {
         }
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
+        let budget = tracker.remaining();
         let dim = tracker.dim();
         let bounds = tracker.bounds().to_vec();
         let n = self.nests.max(1);
@@ -157,7 +149,7 @@ impl Optimizer for CuckooSearch {
         'run: while !tracker.exhausted() {
             // Lévy flights around each nest, scaled by its distance to the best.
             best.copy_from_slice(tracker.best());
-            let p = progress(&tracker);
+            let p = progress(tracker);
             let alpha = if self.alpha > 0.0 && self.alpha_end > 0.0 {
                 self.alpha * (self.alpha_end / self.alpha).powf(p)
             } else {
@@ -178,7 +170,7 @@ impl Optimizer for CuckooSearch {
                 }
             }
             // Discovery: a fraction p_a of the coordinates take a biased random walk.
-            let pa = self.pa + (self.pa_end - self.pa) * progress(&tracker);
+            let pa = self.pa + (self.pa_end - self.pa) * progress(tracker);
             for i in 0..n {
                 let (a, b) = (rng.random_range(0..n), rng.random_range(0..n));
                 let r = uniform(rng, (0.0, 1.0));
@@ -205,13 +197,13 @@ impl Optimizer for CuckooSearch {
                 }
             }
         }
-        tracker.into_outcome()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optim::problem::Problem;
     use crate::optim::testfns::{run_checked, Corner, Rastrigin, Rosenbrock, Sphere};
     use rand::SeedableRng;
 

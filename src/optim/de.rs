@@ -26,7 +26,7 @@
 //! Written by hand: no maintained crate implements it over a caller-seeded generator with
 //! an exact evaluation budget. All buffers are allocated before the main loop.
 
-use super::problem::{random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{random_point, Optimizer, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Differential evolution (DE/rand/1/bin) parameters.
@@ -66,14 +66,7 @@ impl Optimizer for DifferentialEvolution {
         "de"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
         let dim = tracker.dim();
         let bounds = tracker.bounds().to_vec();
         let n = self.population_for(dim);
@@ -90,7 +83,7 @@ impl Optimizer for DifferentialEvolution {
             random_point(rng, &bounds, row);
             match tracker.evaluate(row) {
                 Some(v) => values[i] = v,
-                None => return tracker.into_outcome(),
+                None => return,
             }
         }
 
@@ -148,7 +141,6 @@ impl Optimizer for DifferentialEvolution {
             std::mem::swap(&mut pop, &mut next);
             std::mem::swap(&mut values, &mut next_values);
         }
-        tracker.into_outcome()
     }
 }
 

@@ -43,7 +43,7 @@
 //! Written by hand: no maintained crate implements the fireworks algorithm over a
 //! caller-seeded generator with an exact evaluation budget.
 
-use super::problem::{random_point, standard_normal, uniform, Optimizer, Outcome, Problem};
+use super::problem::{random_point, standard_normal, uniform, Optimizer};
 use super::problem::{SeededRng, Tracker};
 use rand::RngExt;
 
@@ -116,14 +116,7 @@ impl Optimizer for Fireworks {
         "fwa"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
         let dim = tracker.dim();
         let bounds = tracker.bounds().to_vec();
         let n = self.fireworks.max(1);
@@ -260,13 +253,13 @@ impl Optimizer for Fireworks {
             pool[..kept * dim].copy_from_slice(&next[..kept * dim]);
             values[..kept].copy_from_slice(&next_values[..kept]);
         }
-        tracker.into_outcome()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optim::problem::Problem;
     use crate::optim::testfns::{run_checked, Corner, Rastrigin, Rosenbrock, Sphere};
 
     /// `inner` moved by `shift + 0.37 i` along coordinate i, bounds included, so that the

@@ -26,7 +26,7 @@
 //! Written by hand: no maintained crate implements it over a caller-seeded generator with
 //! an exact evaluation budget. All buffers are allocated before the main loop.
 
-use super::problem::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{clamp_to, random_point, Optimizer, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Real-coded genetic algorithm parameters.
@@ -136,14 +136,7 @@ impl Optimizer for GeneticAlgorithm {
         "ga"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
         let dim = tracker.dim();
         let bounds = tracker.bounds().to_vec();
         let n = self.population.max(2);
@@ -163,7 +156,7 @@ impl Optimizer for GeneticAlgorithm {
             random_point(rng, &bounds, row);
             match tracker.evaluate(row) {
                 Some(v) => values[i] = v,
-                None => return tracker.into_outcome(),
+                None => return,
             }
         }
 
@@ -211,7 +204,6 @@ impl Optimizer for GeneticAlgorithm {
             std::mem::swap(&mut pop, &mut next);
             std::mem::swap(&mut values, &mut next_values);
         }
-        tracker.into_outcome()
     }
 }
 

@@ -29,7 +29,7 @@
 //! Written by hand: no maintained crate implements GWO over a caller-seeded generator with
 //! an exact evaluation budget.
 
-use super::problem::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{clamp_to, random_point, Optimizer, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Grey wolf optimizer parameters.
@@ -100,14 +100,8 @@ impl Optimizer for GreyWolf {
         "gwo"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
+        let budget = tracker.remaining();
         let dim = tracker.dim();
         let bounds = tracker.bounds().to_vec();
         let pop = self.population.max(1);
@@ -146,13 +140,13 @@ impl Optimizer for GreyWolf {
                 clamp_to(&bounds, w);
             }
         }
-        tracker.into_outcome()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optim::problem::Problem;
     use crate::optim::testfns::{run_checked, Corner, Rastrigin, Rosenbrock, Sphere};
 
     /// `inner` moved by `shift + 0.37 i` along coordinate i, bounds included, so that the

@@ -11,7 +11,7 @@
 //! bounds. The new harmony replaces the worst one in memory if it is better. The budget
 //! counts objective evaluations, the HMS initial harmonies included.
 
-use super::problem::{random_point, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{random_point, uniform, Optimizer, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Harmony search parameters.
@@ -43,14 +43,7 @@ impl Optimizer for HarmonySearch {
         "hs"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
         let dim = tracker.dim();
         let bounds = tracker.bounds().to_vec();
         let hms = self.hms.max(1);
@@ -92,7 +85,6 @@ impl Optimizer for HarmonySearch {
                 memory[worst * dim..(worst + 1) * dim].copy_from_slice(&candidate);
             }
         }
-        tracker.into_outcome()
     }
 }
 

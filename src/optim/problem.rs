@@ -35,6 +35,11 @@ pub struct Outcome {
 pub trait Optimizer: Send + Sync {
     /// The command-line name, e.g. `hs`.
     fn name(&self) -> &'static str;
+    /// Searches: evaluates points through `tracker` (which counts them against the budget
+    /// and remembers the best) until it refuses one or the method ends. `tracker` is fresh
+    /// from [`Tracker::new`], so [`Tracker::remaining`] is the whole budget.
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng);
+
     /// Minimises `problem` with at most `budget` objective evaluations. With
     /// `record_history` the outcome lists the best value after every evaluation.
     fn minimize(
@@ -43,7 +48,11 @@ pub trait Optimizer: Send + Sync {
         budget: u64,
         rng: &mut SeededRng,
         record_history: bool,
-    ) -> Outcome;
+    ) -> Outcome {
+        let mut tracker = Tracker::new(problem, budget, record_history);
+        self.search(&mut tracker, rng);
+        tracker.into_outcome()
+    }
 }
 
 /// Counts objective evaluations against a budget and remembers the best point.

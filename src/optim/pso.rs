@@ -27,7 +27,7 @@
 //! Written by hand: no maintained crate implements it over a caller-seeded generator with
 //! an exact evaluation budget. All buffers are allocated before the main loop.
 
-use super::problem::{random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{random_point, Optimizer, SeededRng, Tracker};
 use rand::RngExt;
 
 /// Particle swarm optimisation parameters.
@@ -66,14 +66,8 @@ impl Optimizer for ParticleSwarm {
         "pso"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
+        let budget = tracker.remaining();
         let dim = tracker.dim();
         let bounds = tracker.bounds().to_vec();
         let n = self.swarm.max(1);
@@ -101,7 +95,7 @@ impl Optimizer for ParticleSwarm {
             let row = &mut x[i * dim..(i + 1) * dim];
             random_point(rng, &bounds, row);
             let Some(f) = tracker.evaluate(row) else {
-                return tracker.into_outcome();
+                return;
             };
             pbest[i * dim..(i + 1) * dim].copy_from_slice(row);
             pbest_values[i] = f;
@@ -151,7 +145,6 @@ impl Optimizer for ParticleSwarm {
                 }
             }
         }
-        tracker.into_outcome()
     }
 }
 

@@ -59,7 +59,7 @@
 //! Written by hand: no maintained crate implements SO over a caller-seeded generator with
 //! an exact evaluation budget. BEESO (`beeso.rs`) reuses the phases defined here.
 
-use super::problem::{clamp_to, random_point, Optimizer, Outcome, Problem, SeededRng, Tracker};
+use super::problem::{clamp_to, random_point, Optimizer, SeededRng, Tracker};
 use rand::RngExt;
 use std::ops::Range;
 
@@ -156,17 +156,10 @@ impl Optimizer for SnakeOptimizer {
         "so"
     }
 
-    fn minimize(
-        &self,
-        problem: &dyn Problem,
-        budget: u64,
-        rng: &mut SeededRng,
-        record_history: bool,
-    ) -> Outcome {
-        let mut tracker = Tracker::new(problem, budget, record_history);
+    fn search(&self, tracker: &mut Tracker<'_>, rng: &mut SeededRng) {
+        let budget = tracker.remaining();
         // `None` only says the budget is spent; the tracker holds the result.
-        let _ = self.run(&mut tracker, budget, rng);
-        tracker.into_outcome()
+        let _ = self.run(tracker, budget, rng);
     }
 }
 
