@@ -3,6 +3,20 @@
 //! millions of 2 × 2 to 6 × 6 systems; `tests/no_alloc.rs` checks that the weight search
 //! allocates nothing).
 
+/// The 2 × 2 system `m x = r` by Cramer's rule: `(det, x)` with det = m00 m11 − m01 m10,
+/// x0 = (r0 m11 − r1 m01)/det and x1 = (m00 r1 − m10 r0)/det. The caller judges `det`
+/// (each fit has its own test for a singular system, and its own fall-back) before it
+/// uses `x`, which is not finite when `det` is 0.
+#[inline]
+pub(crate) fn cramer2(m: [[f64; 2]; 2], r: [f64; 2]) -> (f64, [f64; 2]) {
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let x = [
+        (r[0] * m[1][1] - r[1] * m[0][1]) / det,
+        (m[0][0] * r[1] - m[1][0] * r[0]) / det,
+    ];
+    (det, x)
+}
+
 /// What to do with a pivot that is (numerically) zero.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Singular {
@@ -76,7 +90,22 @@ pub(crate) fn solve_augmented<const N: usize, const W: usize>(
 
 #[cfg(test)]
 mod tests {
-    use super::{solve_augmented, Singular};
+    use super::{cramer2, solve_augmented, Singular};
+
+    #[test]
+    fn cramer2_solves_and_reports_its_determinant() {
+        // 3x + y = 9, x + 2y = 8: x = 2, y = 3.
+        let (det, x) = cramer2([[3.0, 1.0], [1.0, 2.0]], [9.0, 8.0]);
+        assert_eq!(det, 5.0);
+        assert!((x[0] - 2.0).abs() < 1e-15 && (x[1] - 3.0).abs() < 1e-15);
+        // Not symmetric: 2x − y = 1, 4x + y = 11: x = 2, y = 3.
+        let (det, x) = cramer2([[2.0, -1.0], [4.0, 1.0]], [1.0, 11.0]);
+        assert_eq!(det, 6.0);
+        assert!((x[0] - 2.0).abs() < 1e-15 && (x[1] - 3.0).abs() < 1e-15);
+        let (det, x) = cramer2([[1.0, 2.0], [2.0, 4.0]], [1.0, 2.0]);
+        assert_eq!(det, 0.0);
+        assert!(!x[0].is_finite());
+    }
 
     #[test]
     fn solves_a_pivoting_system_and_treats_singular_ones_by_policy() {

@@ -14,6 +14,7 @@ use super::workspace::Workspace;
 use crate::geom::floor_i64;
 use crate::geom::signed_area;
 use crate::geom::Point;
+use crate::linalg::cramer2;
 
 /// Chord length, in cracks, of the bilevel corner detector.
 const CORNER_REACH: usize = 3;
@@ -193,10 +194,8 @@ impl QuadraticFit {
         if m0.is_nan() || m0 <= 0.0 {
             return None;
         }
-        let det = m0 * m2 - m1 * m1;
+        let (det, [a, b]) = cramer2([[m0, m1], [m1, m2]], [r0, r1]);
         if self.count >= 2 && det > 1e-9 * m0 * m2 {
-            let a = (r0 * m2 - m1 * r1) / det;
-            let b = (m0 * r1 - m1 * r0) / det;
             return Some((a, b, 0.0));
         }
         Some((r0 / m0, 0.0, 0.0))

@@ -40,6 +40,7 @@
 use super::cubic::{end_direction, start_direction, CubicBez};
 use super::RationalCubic;
 use crate::geom::Point;
+use crate::linalg::cramer2;
 
 /// Subdivision depth after which [`approximate_with_cubics`] stops splitting.
 pub const MAX_DEPTH: u32 = 8;
@@ -213,9 +214,9 @@ impl Family {
             r1 += l * g.dot(r);
             r2 += l * h.dot(r);
         }
-        let det = a11 * a22 - a12 * a12;
+        let (det, [a0, b0]) = cramer2([[a11, a12], [a12, a22]], [r1, r2]);
         let (mut a, mut b) = if det > 1e-12 * a11 * a22 && det.is_finite() {
-            ((r1 * a22 - r2 * a12) / det, (a11 * r2 - a12 * r1) / det)
+            (a0, b0)
         } else {
             fallback
         };

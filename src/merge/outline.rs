@@ -37,6 +37,7 @@ use crate::curve::wang_ball::{
 use crate::curve::CubicBez;
 use crate::fit::{FittedContour, JointKind};
 use crate::geom::Point;
+use crate::linalg::cramer2;
 use crate::param::{parameters_into, Parameterization};
 use crate::quad::GaussLegendre;
 use nalgebra::{DMatrix, DVector};
@@ -395,12 +396,10 @@ fn g1_cubic(bezier: &[Point]) -> Option<CubicBez> {
         r0 += u.dot(target);
         r1 += v.dot(target);
     }
-    let det = m00 * m11 - m01 * m01;
+    let (det, [a, b]) = cramer2([[m00, m01], [m01, m11]], [r0, r1]);
     if det.abs() <= 1e-300 {
         return None;
     }
-    let a = (r0 * m11 - r1 * m01) / det;
-    let b = (m00 * r1 - m01 * r0) / det;
     (a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite())
         .then(|| CubicBez::new(b0, b0 + d0 * a, bn - d1 * b, bn))
 }

@@ -18,6 +18,7 @@ use crate::curve::rational::nearest_sample;
 use crate::curve::rational::RationalCubic;
 use crate::fit::SegmentError;
 use crate::geom::Point;
+use crate::linalg::cramer2;
 use crate::param::centripetal_parameters;
 use crate::param::parameters_into;
 
@@ -240,14 +241,11 @@ fn bent_straight_segment(
             }
         }
     }
-    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let (det, [lx, ly]) = cramer2(m, [miss.x, miss.y]);
     if det.abs() < 1e-18 {
         return straight;
     }
-    let lambda = Point::new(
-        (m[1][1] * miss.x - m[0][1] * miss.y) / det,
-        (m[0][0] * miss.y - m[1][0] * miss.x) / det,
-    );
+    let lambda = Point::new(lx, ly);
     let shift = |b: f64, c: EndCondition| match c {
         EndCondition::Free => lambda * b,
         EndCondition::Tangent(t) => t * (b * t.dot(lambda)),
