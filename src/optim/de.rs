@@ -147,45 +147,7 @@ impl Optimizer for DifferentialEvolution {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::optim::testfns::{run_checked, Corner, Rastrigin, Rosenbrock, Sphere};
-
-    #[test]
-    fn sphere_in_ten_dimensions() {
-        let o = run_checked(&DifferentialEvolution::default(), &Sphere(10), 20_000, 1);
-        assert!(o.value < 1e-12, "{}", o.value);
-    }
-
-    #[test]
-    fn rosenbrock_in_two_dimensions() {
-        let o = run_checked(&DifferentialEvolution::default(), &Rosenbrock(2), 10_000, 1);
-        assert!(o.value < 1e-9, "{}", o.value);
-    }
-
-    #[test]
-    fn rosenbrock_in_five_dimensions() {
-        let o = run_checked(&DifferentialEvolution::default(), &Rosenbrock(5), 20_000, 1);
-        // Below 1 means the global valley, not the local minimum near x1 = -1 (~3.9).
-        assert!(o.value < 1.0, "{}", o.value);
-    }
-
-    #[test]
-    fn rastrigin_in_two_dimensions() {
-        let o = run_checked(&DifferentialEvolution::default(), &Rastrigin(2), 10_000, 1);
-        assert!(o.value < 1e-9, "{}", o.value);
-    }
-
-    #[test]
-    fn rastrigin_in_five_dimensions() {
-        let o = run_checked(&DifferentialEvolution::default(), &Rastrigin(5), 20_000, 1);
-        assert!(o.value < 1e-4, "{}", o.value);
-    }
-
-    #[test]
-    fn reaches_a_corner_of_shifted_bounds() {
-        let o = run_checked(&DifferentialEvolution::default(), &Corner(3), 3000, 9);
-        // The midpoint rule halves the gap to a bound per accepted step: close, not exact.
-        assert!(o.value + 6.0 < 1e-4, "{}", o.value);
-    }
+    use crate::optim::testfns::{run_checked, Sphere};
 
     #[test]
     fn budget_smaller_than_the_population() {

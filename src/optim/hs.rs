@@ -87,30 +87,3 @@ impl Optimizer for HarmonySearch {
         }
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::optim::testfns::{run_checked, Corner, Rastrigin, Rosenbrock, Sphere};
-
-    #[test]
-    fn sphere_in_five_dimensions() {
-        let o = run_checked(&HarmonySearch::default(), &Sphere(5), 20_000, 1);
-        assert!(o.value < 1e-3, "{}", o.value);
-    }
-
-    #[test]
-    fn rosenbrock_and_rastrigin_in_two_dimensions() {
-        let hs = HarmonySearch::default();
-        let r = run_checked(&hs, &Rosenbrock(2), 20_000, 3);
-        assert!(r.value < 1e-2, "rosenbrock {}", r.value);
-        let g = run_checked(&hs, &Rastrigin(2), 20_000, 3);
-        assert!(g.value < 1e-2, "rastrigin {}", g.value);
-    }
-
-    #[test]
-    fn reaches_a_corner_of_shifted_bounds() {
-        let a = run_checked(&HarmonySearch::default(), &Corner(3), 3000, 9);
-        assert!((a.value + 6.0).abs() < 0.05, "{}", a.value);
-    }
-}
