@@ -112,7 +112,6 @@ pub fn to_overlay_svg(
     let precision = opts.precision.min(MAX_PRECISION);
     let bound = effective_bound(opts.bound);
     let size = |x: f64| number(x, precision.max(SIZE_PRECISION));
-    let path = |precision| PathData::new(precision);
 
     let mut doc = pixel_document(width, height, zoom);
     if let Some(img) = background {
@@ -141,7 +140,7 @@ pub fn to_overlay_svg(
             .set("stroke", CONTROL_COLOUR)
             .set("stroke-width", size(0.75 * unit));
         for c in &result.contours {
-            let mut d = path(precision);
+            let mut d = PathData::new(precision);
             for s in &c.segments {
                 let p = &s.curve.points;
                 if p.iter().all(|q| q.is_finite()) {
@@ -181,7 +180,7 @@ pub fn to_overlay_svg(
             let Some(band) = envelope_band(&m.curve(), ENVELOPE_SAMPLES) else {
                 continue;
             };
-            let mut d = path(precision);
+            let mut d = PathData::new(precision);
             d.polyline(band);
             d.close();
             bands = bands.add(SvgPath::new().set("d", d.finish()));
@@ -197,7 +196,7 @@ pub fn to_overlay_svg(
             .set("stroke-width", size(3.5 * unit))
             .set("stroke-linecap", "round");
         for c in &result.contours {
-            let mut d = path(precision);
+            let mut d = PathData::new(precision);
             for &p in c.points.iter().filter(|p| p.is_finite()) {
                 d.dot(p);
             }
