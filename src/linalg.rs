@@ -17,6 +17,17 @@ pub(crate) fn cramer2(m: [[f64; 2]; 2], r: [f64; 2]) -> (f64, [f64; 2]) {
     (det, x)
 }
 
+/// The determinant of a 3 × 3 matrix by expansion along its first row:
+/// m00 (m11 m22 − m12 m21) − m01 (m10 m22 − m12 m20) + m02 (m10 m21 − m11 m20).
+/// With it, Cramer's rule solves the small 3 × 3 normal systems whose callers test the
+/// determinant themselves.
+#[inline]
+pub(crate) fn det3(m: [[f64; 3]; 3]) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
 /// What to do with a pivot that is (numerically) zero.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Singular {
@@ -90,7 +101,28 @@ pub(crate) fn solve_augmented<const N: usize, const W: usize>(
 
 #[cfg(test)]
 mod tests {
-    use super::{cramer2, solve_augmented, Singular};
+    use super::{cramer2, det3, solve_augmented, Singular};
+
+    #[test]
+    fn det3_of_known_matrices() {
+        assert_eq!(
+            det3([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+            1.0
+        );
+        assert_eq!(
+            det3([[2.0, 0.0, 1.0], [1.0, 3.0, 2.0], [1.0, 1.0, 2.0]]),
+            6.0
+        );
+        // Swapping two rows flips the sign; a repeated row gives 0.
+        assert_eq!(
+            det3([[1.0, 3.0, 2.0], [2.0, 0.0, 1.0], [1.0, 1.0, 2.0]]),
+            -6.0
+        );
+        assert_eq!(
+            det3([[1.0, 2.0, 3.0], [1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]),
+            0.0
+        );
+    }
 
     #[test]
     fn cramer2_solves_and_reports_its_determinant() {

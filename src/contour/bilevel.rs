@@ -14,7 +14,7 @@ use super::workspace::Workspace;
 use crate::geom::floor_i64;
 use crate::geom::signed_area;
 use crate::geom::Point;
-use crate::linalg::cramer2;
+use crate::linalg::{cramer2, det3};
 
 /// Chord length, in cracks, of the bilevel corner detector.
 const CORNER_REACH: usize = 3;
@@ -166,18 +166,13 @@ impl QuadraticFit {
             return None;
         }
         if self.count >= 4 {
-            let det =
-                m0 * (m2 * m4 - m3 * m3) - m1 * (m1 * m4 - m3 * m2) + m2 * (m1 * m3 - m2 * m2);
+            // Cramer's rule on the moment matrix; c's matrix (third column replaced by
+            // the right-hand side) is written transposed, which keeps its determinant.
+            let det = det3([[m0, m1, m2], [m1, m2, m3], [m2, m3, m4]]);
             if det.abs() > 1e-9 * m0 * m2 * m4 {
-                let a = (r0 * (m2 * m4 - m3 * m3) - m1 * (r1 * m4 - m3 * r2)
-                    + m2 * (r1 * m3 - m2 * r2))
-                    / det;
-                let b = (m0 * (r1 * m4 - m3 * r2) - r0 * (m1 * m4 - m3 * m2)
-                    + m2 * (m1 * r2 - r1 * m2))
-                    / det;
-                let c = (m0 * (m2 * r2 - m3 * r1) - m1 * (m1 * r2 - m3 * r0)
-                    + m2 * (m1 * r1 - m2 * r0))
-                    / det;
+                let a = det3([[r0, m1, m2], [r1, m2, m3], [r2, m3, m4]]) / det;
+                let b = det3([[m0, r0, m2], [m1, r1, m3], [m2, r2, m4]]) / det;
+                let c = det3([[m0, m1, m2], [m1, m2, m3], [r0, r1, r2]]) / det;
                 if a.is_finite() && b.is_finite() && c.is_finite() {
                     return Some((a, b, c));
                 }

@@ -24,6 +24,7 @@ use crate::breaks::{arc_lengths, SegmentedContour};
 use crate::curve::approx::drawing_bound;
 use crate::curve::{approximate_with_cubics, CubicBez};
 use crate::geom::{angle_between, cyclic_run, segment_distance, Point};
+use crate::linalg::det3;
 use std::time::Instant;
 
 /// Options of the `lsq` strategy.
@@ -164,12 +165,7 @@ pub(crate) fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point
     }
     let solve3 = |r: [f64; 3]| -> Option<f64> {
         // Cramer's rule for the s-coefficient.
-        let det = |m: [[f64; 3]; 3]| {
-            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-        };
-        let d = det(acc);
+        let d = det3(acc);
         if d.abs() < 1e-12 {
             return None;
         }
@@ -177,7 +173,7 @@ pub(crate) fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point
         for row in 0..3 {
             m[row][1] = r[row];
         }
-        Some(det(m) / d)
+        Some(det3(m) / d)
     };
     let fallback = || {
         let a = points[(i + n - 1) % n];
