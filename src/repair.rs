@@ -28,22 +28,42 @@ const MAX_ROUNDS: usize = 6;
 /// lie within half a pixel of it.
 const POLYGON_TOLERANCE: f64 = 0.45;
 
-/// Checks `contours` (drawn with their `merged` curves, one list per contour) and repairs
-/// them in place; returns the final verdict. `fit` fits one segmented contour as the trace
-/// does (its second argument is the contour's index, its third whether the fit is a
-/// repair, which the trace fits by `lsq` alone); a repaired or restored contour is drawn
-/// by its own segments, without merged curves.
-#[allow(clippy::too_many_arguments)]
+/// What the check and its repairs work from: the input, the limits, and how the trace
+/// segments and fits a contour.
+#[derive(Clone, Copy)]
+pub(crate) struct RepairInput<'a> {
+    /// The thresholded input the outline must match.
+    pub(crate) bitmap: &'a Bitmap,
+    /// The contours the trace extracted from it.
+    pub(crate) extraction: &'a Extraction,
+    /// How far the drawn outline may stray, and the smallest region that counts.
+    pub(crate) limits: Limits,
+    /// The trace's `min_area`: shapes below it were dropped on purpose.
+    pub(crate) min_area: f64,
+    /// How the trace finds break points.
+    pub(crate) break_options: &'a BreakOptions,
+    /// Fits one segmented contour as the trace does (its second argument is the
+    /// contour's index, its third whether the fit is a repair, which the trace fits by
+    /// `lsq` alone).
+    pub(crate) fit: &'a dyn Fn(SegmentedContour, usize, bool) -> Result<FittedContour>,
+}
+
+/// Checks `contours` (drawn with their `merged` curves, one list per contour) against
+/// `input` and repairs them in place; returns the final verdict. A repaired or restored
+/// contour is drawn by its own segments, without merged curves.
 pub(crate) fn check_and_repair(
-    bitmap: &Bitmap,
-    extraction: &Extraction,
+    input: RepairInput<'_>,
     contours: &mut Vec<FittedContour>,
     merged: &mut Vec<Vec<MergedCurve>>,
-    limits: Limits,
-    min_area: f64,
-    break_options: &BreakOptions,
-    fit: &dyn Fn(SegmentedContour, usize, bool) -> Result<FittedContour>,
 ) -> Result<Fidelity> {
+    let RepairInput {
+        bitmap,
+        extraction,
+        limits,
+        min_area,
+        break_options,
+        fit,
+    } = input;
     let mut level = vec![Repair::None; contours.len()];
     let mut corners_tried = vec![false; contours.len()];
     let mut border_of = extraction.border_of.clone();

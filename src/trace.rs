@@ -410,16 +410,15 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             region: config.min_area.max(2.0),
             bound,
         };
-        repair::check_and_repair(
+        let input = repair::RepairInput {
             bitmap,
-            &extraction,
-            &mut fitted,
-            &mut merged,
+            extraction: &extraction,
             limits,
-            config.min_area,
-            &break_options,
-            &fit_one,
-        )?
+            min_area: config.min_area,
+            break_options: &break_options,
+            fit: &fit_one,
+        };
+        repair::check_and_repair(input, &mut fitted, &mut merged)?
     } else {
         Fidelity::default()
     };
