@@ -430,7 +430,6 @@ fn chord_params(points: &[Point]) -> Vec<f64> {
 
 /// Least-squares Bézier control points with fixed ends and optional end tangents (α, β > 0
 /// required); `None` if degenerate or a tangent would reverse.
-#[allow(clippy::too_many_arguments)]
 fn solve_center(
     points: &[Point],
     params: &[f64],
