@@ -77,6 +77,7 @@ pub mod report;
 pub mod stats;
 #[cfg(feature = "papers")]
 pub mod surface;
+mod svg_writer;
 pub mod trace;
 
 pub use crate::breaks::{find_breaks, Break, BreakOptions, SegmentedContour};

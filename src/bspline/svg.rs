@@ -6,10 +6,10 @@
 
 use super::expr::ParametricCurve;
 use super::Conversion;
-use crate::export::document::{
+use crate::geom::{Bounds, Point};
+use crate::svg_writer::{
     number, points_attribute, Circle, Document, Group, Line, Polyline, Rectangle, Text,
 };
-use crate::geom::{Bounds, Point};
 
 /// Points of the polylines that draw the curve and the spline.
 const POLYLINE_POINTS: usize = 1000;

@@ -9,12 +9,11 @@
 //!   and smooth joints told apart) and every control polygon.
 //!
 //! Both use input pixel units (`viewBox="0 0 W H"`, x right, y down) and return the
-//! document as a `String`, written by `document`, the one SVG writer every picture of the
+//! document as a `String`, written by `svg_writer`, the one SVG writer every picture of the
 //! crate goes through (the `svg` crate for elements and escaping, numbers and path data
 //! formatted here); writing it to disk is [`crate::io::write_atomic`]'s job. The
 //! JSON and CSV reports, which keep the exact rational data, live elsewhere.
 
-pub(crate) mod document;
 pub mod overlay;
 pub mod svg;
 

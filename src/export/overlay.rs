@@ -28,18 +28,18 @@
 //! pixels, so a 64-px glyph and a 1024-px logo are both readable. On large images with dense
 //! data the dots merge into a band around the outline.
 
-use super::document::{
-    comment, number, push_number, Circle, Group, Image, PathData, Rectangle, Text, MAX_PRECISION,
-};
 use super::svg::{contour_path_data, effective_bound, pixel_document, ContourPath};
 use crate::fit::JointKind;
 use crate::geom::Point;
 use crate::merge::picture::envelope_band;
+use crate::svg_writer::{
+    comment, number, push_number, Circle, Group, Image, PathData, Rectangle, Text, MAX_PRECISION,
+};
 use crate::trace::TraceResult;
 use base64::Engine as _;
 use image::ImageEncoder as _;
 
-type SvgPath = super::document::Path;
+type SvgPath = crate::svg_writer::Path;
 
 /// Nominal size, in screen pixels, of the longer side of the picture.
 const VIEW_SIDE: f64 = 800.0;
@@ -279,7 +279,7 @@ fn legend(unit: f64, opts: &OverlayOptions, has_merged: bool, precision: usize) 
     let n = |x: f64| number(x, p);
     let line_path = |from: Point, to_x: f64| {
         let mut d = String::from("M");
-        super::document::push_point(&mut d, from, p);
+        crate::svg_writer::push_point(&mut d, from, p);
         d.push('H');
         push_number(&mut d, to_x, p);
         d

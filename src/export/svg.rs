@@ -15,7 +15,7 @@
 //! JSON report.
 //!
 //! The document uses input pixel units (`viewBox="0 0 W H"`, x right, y down) and is
-//! written by `export::document`, the writer all pictures share: numbers get fixed
+//! written by `svg_writer`, the writer all pictures share: numbers get fixed
 //! decimals, trailing zeros trimmed, never `-0`, so identical results give byte-identical
 //! files. Points are rounded to `precision` decimals, which moves them by at most half a
 //! unit of the last decimal (0.005 px by default), on top of the approximation bound;
@@ -32,8 +32,8 @@ use crate::fit::FittedContour;
 use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::trace::TraceResult;
 
-pub use super::document::MAX_PRECISION;
-use super::document::{decimals_for, CompactPath, Document, Path};
+pub use crate::svg_writer::MAX_PRECISION;
+use crate::svg_writer::{decimals_for, CompactPath, Document, Path};
 
 /// How [`to_svg`] writes the outline.
 #[derive(Clone, Debug, PartialEq)]

@@ -7,8 +7,8 @@
 
 use crate::curve::param_curve::ParamCurve as _;
 use crate::curve::wang_ball::DiskWangBall;
-use crate::export::document::{Circle, Document, Group, Path, PathData, Rectangle, Text};
 use crate::geom::{Bounds, Point};
+use crate::svg_writer::{Circle, Document, Group, Path, PathData, Rectangle, Text};
 
 /// Samples per curve for center lines and envelopes.
 const SAMPLES: usize = 200;
@@ -120,7 +120,7 @@ pub fn to_svg(layers: &[Layer<'_>]) -> String {
         );
         for disk in &l.curve.disks {
             let p = map(disk.center);
-            let n = |x: f64| crate::export::document::number(x, PRECISION);
+            let n = |x: f64| crate::svg_writer::number(x, PRECISION);
             g = g.add(
                 Circle::new()
                     .set("cx", n(p.x))

@@ -10,10 +10,10 @@ use super::Reduction;
 use crate::curve::param_curve::ParamCurve as _;
 use crate::curve::sg_bezier::{SgBezier, SgShape};
 use crate::error::{Error, Result};
-use crate::export::document::{
+use crate::geom::{Bounds, Point};
+use crate::svg_writer::{
     decimals_for, number, points_attribute, Circle, Document, Polyline, Rectangle, Title,
 };
-use crate::geom::{Bounds, Point};
 use serde::Deserialize;
 use std::path::Path;
 
