@@ -67,7 +67,7 @@ mod linalg;
 pub mod merge;
 pub mod optim;
 pub mod param;
-pub mod quad;
+mod quad;
 pub mod raster;
 #[cfg(feature = "papers")]
 pub mod reduce;

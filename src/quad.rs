@@ -8,7 +8,7 @@
 /// polynomials of degree up to `2·order − 1` exactly (to rounding). `order == 0` gives an
 /// empty rule.
 #[derive(Clone, Debug, PartialEq)]
-pub struct GaussLegendre {
+pub(crate) struct GaussLegendre {
     /// Nodes in `(0, 1)`, ascending.
     pub nodes: Vec<f64>,
     /// Positive weights summing to 1.
@@ -17,7 +17,7 @@ pub struct GaussLegendre {
 
 impl GaussLegendre {
     /// The rule with `order` nodes on `[0, 1]`.
-    pub fn new(order: usize) -> Self {
+    pub(crate) fn new(order: usize) -> Self {
         let (x, w) = legendre_rule(order);
         // Map [-1, 1] to [0, 1]; nodes come out descending, so reverse them.
         let nodes = x.iter().rev().map(|&z| 0.5 * (z + 1.0)).collect();
@@ -26,12 +26,12 @@ impl GaussLegendre {
     }
 
     /// The smallest rule exact for polynomials of degree `degree`.
-    pub fn exact_for_degree(degree: usize) -> Self {
+    pub(crate) fn exact_for_degree(degree: usize) -> Self {
         Self::new(degree / 2 + 1)
     }
 
     /// `∫_a^b f` by this rule.
-    pub fn integrate(&self, f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+    pub(crate) fn integrate(&self, f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
         let h = b - a;
         self.nodes
             .iter()
@@ -71,7 +71,7 @@ fn legendre_rule(n: usize) -> (Vec<f64>, Vec<f64>) {
 
 /// `∫_a^b f` to about 1e-14 relative to `max(|∫f|, scale)`, by recursive bisection of a
 /// 16-point rule.
-pub fn adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, scale: f64) -> f64 {
+pub(crate) fn adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, scale: f64) -> f64 {
     let rule = GaussLegendre::new(16);
     let whole = rule.integrate(f, a, b);
     let tol = 1e-14 * whole.abs().max(scale).max(f64::MIN_POSITIVE);

@@ -10,6 +10,9 @@ pub mod lsq;
 pub mod meta;
 pub mod paper;
 pub mod refit;
+// Internal: public (and hidden from the docs) only so that the no-allocation test and the
+// objective benchmark can drive the solver directly.
+#[doc(hidden)]
 pub mod solve;
 
 pub use crate::breaks::JointKind;

@@ -9,7 +9,7 @@
 //! (`papers/NOTES.md`: the printed formula lost its square root and square). Both curves are
 //! polynomials of degree at most n + 1 (an SG-Bézier curve of degree n is a polynomial of
 //! degree n + 1), so the integrand has degree at most 2(n + 1) and a Gauss–Legendre rule
-//! with n + 2 nodes integrates it exactly ([`crate::quad::GaussLegendre::exact_for_degree`]).
+//! with n + 2 nodes integrates it exactly (`quad::GaussLegendre::exact_for_degree`).
 //!
 //! # The method: separable least squares
 //!
