@@ -29,9 +29,9 @@
 //! data the dots merge into a band around the outline.
 
 use super::svg::{contour_path_data, effective_bound, pixel_document, ContourPath};
+use crate::curve::wang_ball::envelope::envelope_band;
 use crate::fit::JointKind;
 use crate::geom::Point;
-use crate::merge::picture::envelope_band;
 use crate::svg_writer::{
     comment, number, push_number, Circle, Group, Image, PathData, Rectangle, Text, MAX_PRECISION,
 };

@@ -28,11 +28,13 @@
 //! No maintained crate implements Wang–Ball curves, so this module is hand-written.
 //!
 //! Files: `basis` (the basis), `convert` (the exact change of basis to and from Bernstein
-//! form), `disk` (the curve types and the merge ratio).
+//! form), `disk` (the curve types and the merge ratio), `envelope` (the two curves a disk
+//! curve's circles touch).
 
 mod basis;
 mod convert;
 mod disk;
+pub mod envelope;
 
 pub use basis::{wang_ball_basis, wang_ball_basis_derivative};
 pub use convert::{
