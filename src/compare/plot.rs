@@ -87,8 +87,25 @@ pub fn series_color(k: usize) -> RGBColor {
     PALETTE[k % PALETTE.len()]
 }
 
-fn drawing<E: std::fmt::Display>(e: E) -> PlotError {
+/// A drawing error of plotters as a [`PlotError`].
+pub(crate) fn drawing<E: std::fmt::Display>(e: E) -> PlotError {
     PlotError::Drawing(e.to_string())
+}
+
+/// The series legend of a chart: upper right, on a translucent white box.
+fn draw_legend<'a, DB, CT>(chart: &mut ChartContext<'a, DB, CT>) -> Result<(), PlotError>
+where
+    DB: DrawingBackend + 'a,
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(drawing)
 }
 
 /// Tick label for a positive log-axis value: plain decimals between 1e-3 and 1e4,
@@ -340,14 +357,7 @@ pub fn convergence(
                     PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(drawing)?;
+        draw_legend(&mut chart)?;
         root.present().map_err(drawing)?;
     }
     Ok(svg)
@@ -675,14 +685,7 @@ pub fn segment_errors(
                 )
                 .map_err(drawing)?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(drawing)?;
+        draw_legend(&mut chart)?;
         root.present().map_err(drawing)?;
     }
     Ok(svg)

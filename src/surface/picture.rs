@@ -2,7 +2,7 @@
 //! surface's wireframe in a 3-D chart (plotters), as SVG.
 
 use super::{BezierSurface, P3};
-use crate::compare::plot::PlotError;
+use crate::compare::plot::{drawing, PlotError};
 use plotters::prelude::*;
 
 /// Iso-parameter lines drawn in each direction.
@@ -11,10 +11,6 @@ const LINES: usize = 13;
 const SAMPLES: usize = 60;
 /// Margin around the points' bounding box, as a fraction of its size per axis.
 const MARGIN: f64 = 0.15;
-
-fn drawing<E: std::fmt::Display>(e: E) -> PlotError {
-    PlotError::Drawing(e.to_string())
-}
 
 /// The points and the wireframe of `surface` (if any) as an SVG document. The chart's
 /// vertical axis is the points' z.
