@@ -150,13 +150,7 @@ fn antialiased_rotated_square_keeps_its_corners() {
     let mut worst: f64 = 0.0;
     for p in pts {
         if corners.iter().all(|c| c.distance(*p) > 1.5) {
-            let d = (0..4)
-                .map(|i| {
-                    let (a, b) = (corners[i], corners[(i + 1) % 4]);
-                    ((*p - a).cross(b - a) / (b - a).length()).abs()
-                })
-                .fold(f64::INFINITY, f64::min);
-            worst = worst.max(d);
+            worst = worst.max(side_distance(*p, &corners));
         }
     }
     eprintln!("AA square side error {worst:.4}");
@@ -539,13 +533,7 @@ fn bilevel_shallow_straight_edges_stay_straight() {
         .iter()
         .filter(|p| corners.iter().all(|c| c.distance(**p) > 3.0))
     {
-        let d = (0..4)
-            .map(|i| {
-                let (a, b) = (corners[i], corners[(i + 1) % 4]);
-                ((*p - a).cross(b - a) / (b - a).length()).abs()
-            })
-            .fold(f64::INFINITY, f64::min);
-        worst = worst.max(d);
+        worst = worst.max(side_distance(*p, &corners));
     }
     eprintln!("shallow sides: worst {worst:.3}");
     assert!(worst < 0.3, "worst side distance {worst}");
@@ -683,4 +671,15 @@ fn crack_guard_rejects_outlines_off_the_pixels() {
         .filter(|m| m.x + m.y > 15.0)
         .collect();
     assert!(!follows_cracks(&cut, &cracks));
+}
+
+/// Distance from `p` to the nearest of the lines through the sides of the quadrilateral
+/// `corners`.
+fn side_distance(p: Point, corners: &[Point; 4]) -> f64 {
+    (0..4)
+        .map(|i| {
+            let (a, b) = (corners[i], corners[(i + 1) % 4]);
+            ((p - a).cross(b - a) / (b - a).length()).abs()
+        })
+        .fold(f64::INFINITY, f64::min)
 }
