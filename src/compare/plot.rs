@@ -92,6 +92,20 @@ pub(crate) fn drawing<E: std::fmt::Display>(e: E) -> PlotError {
     PlotError::Drawing(e.to_string())
 }
 
+/// Every chart's frame: its caption, margin and axis label areas.
+fn chart_frame<'a, 'b, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, plotters::coord::Shift>,
+    title: &'b str,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(root);
+    builder
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(70);
+    builder
+}
+
 /// The series legend of a chart: upper right, on a translucent white box.
 fn draw_legend<'a, DB, CT>(chart: &mut ChartContext<'a, DB, CT>) -> Result<(), PlotError>
 where
@@ -309,11 +323,7 @@ pub fn convergence(
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area();
         root.fill(&WHITE).map_err(drawing)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
+        let mut chart = chart_frame(&root, title)
             .build_cartesian_2d(
                 0f64..(evaluations[len - 1] as f64).max(1.0),
                 decade_range(lo, hi).log_scale(),
@@ -465,11 +475,7 @@ pub fn boxplot(title: &str, groups: &[(String, Vec<f64>)]) -> Result<String, Plo
         let root = SVGBackend::with_string(&mut svg, (width, HEIGHT)).into_drawing_area();
         root.fill(&WHITE).map_err(drawing)?;
         let key_points: Vec<f64> = (0..n).map(|i| i as f64).collect();
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
+        let mut chart = chart_frame(&root, title)
             .build_cartesian_2d(
                 TickedAxis::new(-0.5..n as f64 - 0.5, key_points),
                 decade_range(lo, hi).log_scale(),
@@ -617,11 +623,7 @@ pub fn segment_errors(
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area();
         root.fill(&WHITE).map_err(drawing)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
+        let mut chart = chart_frame(&root, title)
             .build_cartesian_2d(
                 TickedAxis::new(0.5..segments as f64 + 0.5, key_points),
                 decade_range(lo, hi).log_scale(),
