@@ -1,0 +1,140 @@
+//! `outlinefit trace`: one image in, an SVG and optional reports out.
+
+use super::args::FitArgs;
+use super::messages::{fidelity_problem, trace_warnings};
+use super::output::{
+    check_distinct, default_svg_path, is_dash, not_regular, resolve_output, write_output,
+};
+use anyhow::{bail, Context};
+use clap::Args;
+use outlinefit::{to_overlay_svg, OverlayOptions};
+use outlinefit::{to_svg, SvgOptions};
+use outlinefit::io::ensure_output_dir_exists;
+use outlinefit::{raster, report, trace_bitmap};
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `trace`.
+#[derive(Args, Debug)]
+pub(crate) struct TraceArgs {
+    /// The image to trace (PNG, JPEG, BMP, GIF, TIFF, WebP, PBM/PGM/PPM); `-` reads it from
+    /// standard input.
+    input: PathBuf,
+    /// Where to write the SVG; `-` for standard output. Default: the input's path with
+    /// the extension `.svg` (standard output when the input is `-`).
+    #[arg(short = 'o', long = "output", value_name = "OUT.svg")]
+    output: Option<PathBuf>,
+    /// Write the JSON report (configuration, every segment, every joint) here (`-`:
+    /// standard output).
+    #[arg(long, value_name = "R.json")]
+    report: Option<PathBuf>,
+    /// Write the CSV report (one row per segment) here (`-`: standard output).
+    #[arg(long, value_name = "R.csv")]
+    csv: Option<PathBuf>,
+    /// Write a diagnostic SVG: input image, data points, corners, smooth joints, control
+    /// polygons.
+    #[arg(long, value_name = "O.svg")]
+    overlay: Option<PathBuf>,
+    /// Include every data point's curve parameter in the JSON report.
+    #[arg(long)]
+    params: bool,
+    /// Write through symbolic links to their targets (without it, an output that is a
+    /// link is refused). Devices, FIFOs and folders are always refused.
+    #[arg(long)]
+    follow_symlinks: bool,
+    #[command(flatten)]
+    fit: FitArgs,
+}
+
+pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
+    let config = args.fit.config()?;
+    config.validate()?;
+    let from_stdin = is_dash(&args.input);
+    let svg_path = match &args.output {
+        Some(p) => p.clone(),
+        None if from_stdin => PathBuf::from("-"),
+        None => {
+            if args.input.starts_with("/dev") || args.input.starts_with("/proc") {
+                bail!(
+                    "{} names a device or process file; give the SVG's path with -o (or -o - for standard output)",
+                    args.input.display()
+                );
+            }
+            if let Some(kind) = not_regular(&args.input) {
+                bail!(
+                    "{} is a {kind}; give the SVG's path with -o (or -o - for standard output)",
+                    args.input.display()
+                );
+            }
+            default_svg_path(&args.input)
+        }
+    };
+    // Check every output before any work: distinct files, none the input, each a regular
+    // file (or a link followed on request) in an existing folder.
+    let named = [
+        ("-o", Some(svg_path.as_path())),
+        ("--report", args.report.as_deref()),
+        ("--csv", args.csv.as_deref()),
+        ("--overlay", args.overlay.as_deref()),
+    ];
+    let named: Vec<(&str, &Path)> = named
+        .iter()
+        .filter_map(|(o, p)| p.map(|p| (*o, p)))
+        .collect();
+    let mut resolved: Vec<PathBuf> = Vec::with_capacity(named.len());
+    for (_, p) in &named {
+        if is_dash(p) {
+            resolved.push(p.to_path_buf());
+            continue;
+        }
+        let target = resolve_output(p, args.follow_symlinks)?;
+        ensure_output_dir_exists(target.parent().unwrap_or(Path::new("")))?;
+        resolved.push(target);
+    }
+    let targets: Vec<(&str, &Path)> = named
+        .iter()
+        .zip(&resolved)
+        .map(|((o, _), t)| (*o, t.as_path()))
+        .collect();
+    check_distinct(&targets, Some(&args.input))?;
+
+    let bitmap = if from_stdin {
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .lock()
+            .read_to_end(&mut bytes)
+            .context("cannot read standard input")?;
+        raster::load_bytes(&bytes, Path::new("<stdin>"), &config.raster_options())?
+    } else {
+        raster::load(&args.input, &config.raster_options())?
+    };
+    let result = trace_bitmap(&bitmap, &config)?;
+    let name = if from_stdin {
+        "<stdin>".to_string()
+    } else {
+        args.input.display().to_string()
+    };
+    if args.fit.strict {
+        if let Some(problem) = fidelity_problem(&config, &result) {
+            bail!("{name}: {problem}; nothing written (--strict)");
+        }
+    }
+    for w in trace_warnings(&name, &config, &result) {
+        eprintln!("{w}");
+    }
+    // Reports first, the SVG last: a finished SVG means everything else is there too.
+    for ((option, _), target) in named.iter().zip(&resolved).skip(1) {
+        let names = [(name.as_str(), &result)];
+        write_output(target, |w| match *option {
+            "--report" => report::write_json(w, &config, &names, args.params),
+            "--csv" => w.write_all(report::to_csv(&config, &names).as_bytes()),
+            _ => w.write_all(
+                to_overlay_svg(&result, Some(&bitmap.preview()), &OverlayOptions::default())
+                    .as_bytes(),
+            ),
+        })?;
+    }
+    let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+    write_output(&resolved[0], |w| w.write_all(svg.as_bytes()))?;
+    Ok(0)
+}

@@ -1,0 +1,1274 @@
+//! Loading images into a foreground *coverage field*: the first stage of the pipeline.
+//!
+//! This module owns everything between an image file and a [`Bitmap`]: decoding (any format
+//! the `image` crate reads, recognised by content rather than by file name), the size
+//! limits, the choice between the alpha channel and the luminance as the shape, polarity
+//! (`invert`), the threshold (fixed or Otsu's) and two facts the later stages need: whether
+//! the image is *bilevel* (no grey levels at its edges, so sub-pixel refinement cannot work)
+//! and whether its border is mostly foreground (the polarity is probably wrong).
+//!
+//! Coverage is a number per pixel in [0, 1]: 1 is foreground (ink), 0 background (paper).
+//!
+//! * When at least a tenth of the pixels are mostly transparent (alpha below one half:
+//!   a logo or silhouette on a transparent background), the shape **is** the alpha:
+//!   coverage = alpha ([`AlphaRule`]; an opaque picture with a few transparent pixels or
+//!   rounded transparent corners traces its luminance). Colour is ignored, so a white
+//!   logo on a transparent background traces the same as a black one (the tempting
+//!   alpha × (1 − luma) would make white logos vanish). `invert` then traces the
+//!   transparent part.
+//! * Otherwise coverage = 1 − luma (Rec. 601 for colour images; dark shapes on a light background), and `invert` makes it
+//!   luma (light shapes on dark).
+//!
+//! Conversion goes through 32-bit floats, so 16-bit images keep their precision. The
+//! bitmap stores a level per pixel, not the float (`levels`): 8-bit grey images keep their
+//! bytes, 16-bit grey images their 16-bit values, and everything else is quantised to 16
+//! bits (within 7.7 × 10⁻⁶ of the float), so a large image costs one or two bytes per
+//! pixel.
+//!
+//! The threshold (foreground ⇔ coverage ≥ threshold) only decides the *topology* of the
+//! outlines; where the image has grey levels, `contour` places the edges by integrating the
+//! coverage, which does not depend on the threshold. Otsu's level is computed on a
+//! 256-bin histogram and clamped to [0.2, 0.8]: for an anti-aliased (area-coverage) image the
+//! true edge is at 0.5 and Otsu's level can wander far from it when the histogram is almost
+//! all 0s and 1s, and a nearly empty image gives a meaningless level. When several levels are
+//! equally good (a bilevel image has a whole empty range between its two levels) the middle
+//! of that range is taken, so a 0/255 image gets exactly 0.5.
+
+use crate::error::{Error, Result};
+use crate::geom::Point;
+use image::{DynamicImage, GenericImageView, GrayImage, ImageDecoder, ImageReader, Limits};
+use levels::Levels;
+use std::borrow::Cow;
+use std::path::Path;
+
+pub(crate) mod frames;
+mod levels;
+
+/// Rec. 601 luma weights of red, green and blue.
+const REC601: [f32; 3] = [0.299, 0.587, 0.114];
+/// Lowest threshold Otsu's method may choose, on the [0, 1] coverage scale.
+const OTSU_MIN: f64 = 0.2;
+/// Highest threshold Otsu's method may choose, on the [0, 1] coverage scale.
+const OTSU_MAX: f64 = 0.8;
+/// Coverage strictly between `GREY_LO` and `GREY_HI` counts as a grey level.
+const GREY_LO: f32 = 0.05;
+/// See [`GREY_LO`].
+const GREY_HI: f32 = 0.95;
+/// An image is bilevel when fewer than this fraction of its edge pixels are grey.
+const BILEVEL_GREY_FRACTION: f64 = 0.05;
+/// Bytes per pixel budgeted for the decoder (RGBA with 32-bit float channels).
+const DECODE_BYTES_PER_PIXEL: u64 = 16;
+/// Extra decoder working memory allowed on top of the pixel buffer.
+const DECODE_SLACK_BYTES: u64 = 64 << 20;
+
+/// Options for turning an image into foreground coverage.
+#[derive(Clone, Debug)]
+pub struct RasterOptions {
+    /// Fixed threshold on the 0–255 scale of what is traced ([`ThresholdScale`]): with
+    /// luminance, pixels darker than it are the shape; with `invert`, lighter ones; with
+    /// alpha, more opaque ones. Default: `None`, Otsu's level (clamped to [0.2, 0.8] of
+    /// the coverage).
+    pub threshold: Option<u8>,
+    /// Whether the alpha channel or the luminance is the shape. Default:
+    /// [`AlphaRule::Auto`].
+    pub alpha: AlphaRule,
+    /// Trace light shapes on a dark background (or, with alpha, the transparent part).
+    /// Default: false.
+    pub invert: bool,
+    /// Largest accepted width × height, checked from the file header before any pixel is
+    /// decoded. Default (in [`crate::Config`]): 50 000 000.
+    pub max_pixels: u64,
+    /// Which frame of an animation (GIF, APNG, WebP) or page of a TIFF file to trace,
+    /// from 0. Default: 0.
+    pub frame: u32,
+}
+
+/// What the threshold is compared with, as a user sees the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ThresholdScale {
+    /// Luminance 0–255 (Rec. 601): pixels darker than the threshold are the shape.
+    Luminance,
+    /// Luminance with `invert`: pixels lighter than the threshold are the shape.
+    InvertedLuminance,
+    /// Alpha 0–255: pixels more opaque than the threshold are the shape.
+    Alpha,
+    /// Alpha with `invert`: pixels more transparent than the threshold are the shape.
+    InvertedAlpha,
+    /// The coverage itself, scaled to 0–255 ([`Bitmap::from_coverage`]): coverage at or
+    /// above the threshold is the shape.
+    Coverage,
+}
+
+impl ThresholdScale {
+    /// True when values below the threshold are the shape.
+    fn below_is_shape(self) -> bool {
+        matches!(
+            self,
+            ThresholdScale::Luminance | ThresholdScale::InvertedAlpha
+        )
+    }
+
+    /// The coverage threshold (foreground ⇔ coverage ≥ it) of a threshold `t` on this
+    /// scale. Half a level separates the two sides, so that on 8-bit values "darker than
+    /// t" is exact.
+    pub fn coverage_threshold(self, t: f64) -> f64 {
+        let c = match self {
+            ThresholdScale::Coverage => t / 255.0,
+            _ if self.below_is_shape() => 1.0 - (t - 0.5) / 255.0,
+            _ => (t + 0.5) / 255.0,
+        };
+        c.clamp(0.0, 1.0)
+    }
+
+    /// The threshold on this scale of a coverage threshold `c`: the exact boundary, so
+    /// that the shape is what lies beyond it (`--threshold 100` on luminance gives 99.5:
+    /// luminance 99 and darker is the shape, 100 is not).
+    pub fn value_of(self, c: f64) -> f64 {
+        match self {
+            ThresholdScale::Coverage => 255.0 * c,
+            _ if self.below_is_shape() => 255.0 * (1.0 - c),
+            _ => 255.0 * c,
+        }
+    }
+
+    /// A short description for messages, e.g. "luminance below 136.0".
+    pub fn describe(self, value: f64) -> String {
+        match self {
+            ThresholdScale::Luminance => format!("luminance below {value:.1}"),
+            ThresholdScale::InvertedLuminance => format!("luminance above {value:.1}"),
+            ThresholdScale::Alpha => format!("alpha above {value:.1}"),
+            ThresholdScale::InvertedAlpha => format!("alpha below {value:.1}"),
+            ThresholdScale::Coverage => format!("coverage at least {value:.1}/255"),
+        }
+    }
+}
+
+/// Foreground coverage of an image, with the threshold and the facts detected about it.
+///
+/// Construct it with [`load`], [`from_image`] or [`Bitmap::from_coverage`].
+#[derive(Clone, Debug)]
+pub struct Bitmap {
+    /// Width in pixels.
+    width: u32,
+    /// Height in pixels.
+    height: u32,
+    /// Row-major coverage, 1.0 = foreground, 0.0 = background.
+    coverage: Levels,
+    /// Foreground ⇔ coverage ≥ threshold; in [0, 1].
+    threshold: f64,
+    /// True when (almost) no edge pixel has a grey level.
+    bilevel: bool,
+    /// True when the coverage is the alpha channel.
+    from_alpha: bool,
+    /// What the threshold is compared with, as the user sees the image.
+    scale: ThresholdScale,
+    /// True when most of the outermost ring of pixels is foreground.
+    dark_border: bool,
+    /// Fraction of the pixels that are mostly transparent (alpha below one half).
+    transparent: f64,
+    /// The frame or page traced, from 0.
+    frame: u32,
+    /// How many frames or pages the file has (1 for a still image or a coverage field).
+    frames: u32,
+}
+
+impl Bitmap {
+    /// Builds a bitmap from a row-major coverage field (1 = foreground, 0 = background).
+    ///
+    /// Values are clamped to [0, 1], NaN counts as background, and each is stored to 16
+    /// bits (within 7.7 × 10⁻⁶; 0 and 1 exactly). `threshold` is on the
+    /// [0, 1] scale; `None` chooses Otsu's level (see the module docs). Detects
+    /// [`is_bilevel`](Self::is_bilevel) and [`dark_border`](Self::dark_border).
+    ///
+    /// Errors: [`Error::ZeroSize`] when a dimension is 0; [`Error::InvalidOption`] when the
+    /// length of `coverage` is not `width × height` or the threshold is outside [0, 1].
+    pub fn from_coverage(
+        width: u32,
+        height: u32,
+        coverage: Vec<f32>,
+        threshold: Option<f64>,
+    ) -> Result<Bitmap> {
+        Bitmap::build(
+            width,
+            height,
+            Levels::quantised(coverage.into_iter().map(levels::quantise).collect()),
+            threshold,
+            false,
+        )
+    }
+
+    fn build(
+        width: u32,
+        height: u32,
+        coverage: Levels,
+        threshold: Option<f64>,
+        from_alpha: bool,
+    ) -> Result<Bitmap> {
+        if width == 0 || height == 0 {
+            return Err(Error::ZeroSize { width, height });
+        }
+        let expected = u64::from(width) * u64::from(height);
+        if coverage.len() as u64 != expected {
+            return Err(Error::InvalidOption {
+                name: "coverage",
+                message: format!(
+                    "{} values given for a {width}×{height} image ({expected} expected)",
+                    coverage.len()
+                ),
+            });
+        }
+        if let Some(t) = threshold {
+            if !(0.0..=1.0).contains(&t) {
+                return Err(Error::InvalidOption {
+                    name: "threshold",
+                    message: format!("{t} is outside [0, 1]"),
+                });
+            }
+        }
+        let threshold = threshold.unwrap_or_else(|| otsu_threshold(&coverage));
+        let mut bitmap = Bitmap {
+            width,
+            height,
+            coverage,
+            threshold,
+            bilevel: false,
+            from_alpha,
+            scale: ThresholdScale::Coverage,
+            dark_border: false,
+            transparent: 0.0,
+            frame: 0,
+            frames: 1,
+        };
+        bitmap.bilevel = bitmap.detect_bilevel();
+        bitmap.dark_border = bitmap.detect_dark_border();
+        Ok(bitmap)
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// A copy of the row-major coverage values, `width × height` of them (4 bytes per
+    /// pixel; the bitmap itself stores one or two).
+    pub fn to_coverage(&self) -> Vec<f32> {
+        let mut out = vec![0.0; self.coverage.len()];
+        self.coverage.read(0, &mut out);
+        out
+    }
+
+    /// The coverage of row `row` written to `out` (`width` values; zeros past the end).
+    pub(crate) fn read_row(&self, row: usize, out: &mut [f32]) {
+        self.coverage.read(row * self.width as usize, out);
+    }
+
+    /// Coverage of pixel (col, row); 0 outside the image.
+    #[inline]
+    pub fn coverage_at(&self, col: i64, row: i64) -> f32 {
+        if col < 0 || row < 0 || col >= i64::from(self.width) || row >= i64::from(self.height) {
+            return 0.0;
+        }
+        let index = row as usize * self.width as usize + col as usize;
+        self.coverage.get(index).unwrap_or(0.0)
+    }
+
+    /// Bilinear interpolation of the coverage at `p`, with pixel (c, r) sampled at its centre
+    /// (c + 0.5, r + 0.5) and every pixel outside the image counted as 0 (so the value falls
+    /// to 0 over the half pixel beyond the border, and is 0 further out).
+    #[inline]
+    pub fn sample(&self, p: Point) -> f64 {
+        let x = p.x - 0.5;
+        let y = p.y - 0.5;
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        // Also rejects NaN.
+        if !(x > -1.0 && y > -1.0 && x < w && y < h) {
+            return 0.0;
+        }
+        // floor() for x, y > −1 without the libm call `f64::floor` becomes on baseline
+        // x86-64: truncation, minus one for negative non-integers.
+        let c = x as i64 - i64::from(x < 0.0);
+        let r = y as i64 - i64::from(y < 0.0);
+        let fx = (x - c as f64) as f32;
+        let fy = (y - r as f64) as f32;
+        let (v00, v10, v01, v11) = if c >= 0
+            && r >= 0
+            && c + 1 < i64::from(self.width)
+            && r + 1 < i64::from(self.height)
+        {
+            let stride = self.width as usize;
+            let i = r as usize * stride + c as usize;
+            let at = |k: usize| self.coverage.get(k).unwrap_or(0.0);
+            (at(i), at(i + 1), at(i + stride), at(i + stride + 1))
+        } else {
+            (
+                self.coverage_at(c, r),
+                self.coverage_at(c + 1, r),
+                self.coverage_at(c, r + 1),
+                self.coverage_at(c + 1, r + 1),
+            )
+        };
+        let top = v00 + (v10 - v00) * fx;
+        let bottom = v01 + (v11 - v01) * fx;
+        f64::from(top + (bottom - top) * fy)
+    }
+
+    /// The threshold in [0, 1]: a pixel is foreground when its coverage is at least this.
+    pub fn threshold(&self) -> f64 {
+        self.threshold
+    }
+
+    /// True when the image carries (almost) no grey levels at its edges: fewer than 5 % of
+    /// the pixels next to a threshold crossing have a coverage strictly between 0.05 and
+    /// 0.95. Also true when there is no crossing at all. Contour extraction then smooths the
+    /// pixel staircase instead of refining edges to sub-pixel positions.
+    pub fn is_bilevel(&self) -> bool {
+        self.bilevel
+    }
+
+    /// True when the coverage came from the alpha channel.
+    pub fn from_alpha(&self) -> bool {
+        self.from_alpha
+    }
+
+    /// The frame or page traced (from 0) and how many the file has.
+    pub fn frame(&self) -> (u32, u32) {
+        (self.frame, self.frames)
+    }
+
+    /// Fraction of the pixels that are mostly transparent (alpha below one half); 0 for an
+    /// image without alpha.
+    pub fn transparent_fraction(&self) -> f64 {
+        self.transparent
+    }
+
+    /// What the threshold is compared with, as the user sees the image.
+    pub fn threshold_scale(&self) -> ThresholdScale {
+        self.scale
+    }
+
+    /// The threshold on [`Bitmap::threshold_scale`] (0–255), as `--threshold` takes it.
+    pub fn threshold_value(&self) -> f64 {
+        self.scale.value_of(self.threshold)
+    }
+
+    /// True when more than half of the outermost ring of pixels is foreground: the polarity
+    /// is probably wrong (try `invert`). Only reported, never acted on.
+    pub fn dark_border(&self) -> bool {
+        self.dark_border
+    }
+
+    /// True when a coverage value counts as foreground.
+    #[inline]
+    fn is_foreground(&self, v: f32) -> bool {
+        f64::from(v) >= self.threshold
+    }
+
+    /// The thresholded image: 255 where coverage ≥ threshold, 0 elsewhere.
+    pub fn mask(&self) -> GrayImage {
+        let pixels = (0..self.coverage.len())
+            .map(|i| {
+                let v = self.coverage.get(i).unwrap_or(0.0);
+                if self.is_foreground(v) {
+                    255
+                } else {
+                    0
+                }
+            })
+            .collect();
+        GrayImage::from_raw(self.width, self.height, pixels)
+            .unwrap_or_else(|| GrayImage::new(self.width, self.height))
+    }
+
+    /// The coverage as a picture: foreground black (0), background white (255), grey levels
+    /// in between. Used as the backdrop of overlays.
+    pub fn preview(&self) -> GrayImage {
+        let pixels = (0..self.coverage.len())
+            .map(|i| ((1.0 - self.coverage.get(i).unwrap_or(0.0)) * 255.0 + 0.5) as u8)
+            .collect();
+        GrayImage::from_raw(self.width, self.height, pixels)
+            .unwrap_or_else(|| GrayImage::new(self.width, self.height))
+    }
+
+    /// The smallest `f32` that counts as foreground: `v >= self.foreground_level()` exactly
+    /// when `f64::from(v) >= self.threshold`, for comparisons in `f32`.
+    fn foreground_level(&self) -> f32 {
+        let t = self.threshold as f32;
+        if f64::from(t) < self.threshold {
+            // The next f32 up (the threshold is in [0, 1], so positive and finite).
+            f32::from_bits(t.to_bits() + 1)
+        } else {
+            t
+        }
+    }
+
+    fn detect_bilevel(&self) -> bool {
+        let w = self.width as usize;
+        let level = self.foreground_level();
+        let (mut edge, mut grey_edge) = (0u64, 0u64);
+        let (mut row, mut next) = (vec![0.0; w], vec![0.0; w]);
+        let rows = self.coverage.len() / w;
+        for r in 0..rows {
+            if r == 0 {
+                self.read_row(0, &mut row);
+            } else {
+                std::mem::swap(&mut row, &mut next);
+            }
+            let (e, g) = crossing_counts(&row[..w - 1], &row[1..], level);
+            edge += e;
+            grey_edge += g;
+            if r + 1 < rows {
+                self.read_row(r + 1, &mut next);
+                let (e, g) = crossing_counts(&row, &next, level);
+                edge += e;
+                grey_edge += g;
+            }
+        }
+        (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
+    }
+
+    fn detect_dark_border(&self) -> bool {
+        let (w, h) = (i64::from(self.width), i64::from(self.height));
+        let mut ring = 0u64;
+        let mut dark = 0u64;
+        let mut visit = |c: i64, r: i64| {
+            ring += 1;
+            dark += u64::from(self.is_foreground(self.coverage_at(c, r)));
+        };
+        for c in 0..w {
+            visit(c, 0);
+            if h > 1 {
+                visit(c, h - 1);
+            }
+        }
+        for r in 1..h - 1 {
+            visit(0, r);
+            if w > 1 {
+                visit(w - 1, r);
+            }
+        }
+        2 * dark > ring
+    }
+}
+
+/// Over pixel pairs (a[i], b[i]): twice the number of pairs that cross `level` (one on
+/// each side), and how many of those pixels are grey. Written as plain sums so that it
+/// vectorises.
+fn crossing_counts(a: &[f32], b: &[f32], level: f32) -> (u64, u64) {
+    let grey = |v: f32| u32::from(v > GREY_LO) & u32::from(v < GREY_HI);
+    let (mut edge, mut grey_edge) = (0u64, 0u64);
+    // u32 partial sums cannot overflow within a chunk.
+    for (ca, cb) in a.chunks(1 << 20).zip(b.chunks(1 << 20)) {
+        let (mut e, mut g) = (0u32, 0u32);
+        for (&x, &y) in ca.iter().zip(cb) {
+            let crossing = u32::from((x >= level) != (y >= level));
+            e += crossing;
+            g += crossing * (grey(x) + grey(y));
+        }
+        edge += 2 * u64::from(e);
+        grey_edge += u64::from(g);
+    }
+    (edge, grey_edge)
+}
+
+/// Otsu's threshold of a coverage field on a 256-bin histogram, on the [0, 1] scale, clamped
+/// to [`OTSU_MIN`, `OTSU_MAX`]. Ties (an empty range of levels between the classes) resolve
+/// to the middle of the range. A uniform field gives 0.5.
+fn otsu_threshold(coverage: &Levels) -> f64 {
+    // Coverage is already clamped to [0, 1].
+    // (Through i32: float to u64 conversion is much slower on x86-64.)
+    let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
+    let mut hist = [0u64; 256];
+    for (v, n) in coverage.histogram() {
+        hist[bin(v)] += n;
+    }
+    let total = coverage.len() as f64;
+    let sum_all: f64 = hist
+        .iter()
+        .enumerate()
+        .map(|(i, &n)| i as f64 * n as f64)
+        .sum();
+    let (mut w_b, mut sum_b) = (0.0, 0.0);
+    let mut best = -1.0;
+    let (mut lo, mut hi) = (0usize, 0usize);
+    for (t, &n) in hist.iter().enumerate().take(255) {
+        w_b += n as f64;
+        sum_b += t as f64 * n as f64;
+        let w_f = total - w_b;
+        if w_b == 0.0 {
+            continue;
+        }
+        if w_f == 0.0 {
+            break;
+        }
+        let diff = sum_b / w_b - (sum_all - sum_b) / w_f;
+        let between = w_b * w_f * diff * diff;
+        if between > best * (1.0 + 1e-12) {
+            best = between;
+            lo = t;
+            hi = t;
+        } else if between >= best * (1.0 - 1e-12) {
+            hi = t;
+        }
+    }
+    if best < 0.0 {
+        return 0.5;
+    }
+    // Background = levels ≤ t, so the cut lies half a level above t.
+    let t = (lo + hi) as f64 / 2.0;
+    ((t + 0.5) / 255.0).clamp(OTSU_MIN, OTSU_MAX)
+}
+
+/// Checks a width and height against the zero-size and `max_pixels` rules.
+fn check_dimensions(width: u32, height: u32, max_pixels: u64) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(Error::ZeroSize { width, height });
+    }
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > max_pixels {
+        return Err(Error::TooLarge {
+            width,
+            height,
+            pixels,
+            limit: max_pixels,
+        });
+    }
+    Ok(())
+}
+
+/// Calls `f(luma, alpha)` for every pixel in row-major order, both in [0, 1] (floats as
+/// stored). Colour goes through Rec. 601 luma, the weights of JPEG's Y channel and of most
+/// image tools' greyscale (the `image` crate's own conversion uses Rec. 709, which puts an
+/// orange or red shape on the other side of a threshold than the same picture in
+/// greyscale does in those tools). The common layouts are read in place; others are
+/// converted to 32-bit float RGBA first.
+fn for_each_luma_alpha(img: &DynamicImage, mut f: impl FnMut(f32, f32)) {
+    // Divisions, not multiplications by reciprocals: the same values as `image`'s own
+    // conversion to floats.
+    let (u8f, u16f) = (u8_value, u16_value);
+    let rgb = |r: f32, g: f32, b: f32| REC601[0] * r + REC601[1] * g + REC601[2] * b;
+    match img {
+        DynamicImage::ImageLuma8(b) => b.pixels().for_each(|p| f(u8f(p[0]), 1.0)),
+        DynamicImage::ImageLumaA8(b) => b.pixels().for_each(|p| f(u8f(p[0]), u8f(p[1]))),
+        DynamicImage::ImageLuma16(b) => b.pixels().for_each(|p| f(u16f(p[0]), 1.0)),
+        DynamicImage::ImageLumaA16(b) => b.pixels().for_each(|p| f(u16f(p[0]), u16f(p[1]))),
+        DynamicImage::ImageRgb8(b) => b.pixels().for_each(|p| {
+            let [r, g, bl] = p.0.map(u8f);
+            f(rgb(r, g, bl), 1.0)
+        }),
+        DynamicImage::ImageRgba8(b) => b.pixels().for_each(|p| {
+            let [r, g, bl, a] = p.0.map(u8f);
+            f(rgb(r, g, bl), a)
+        }),
+        other => other
+            .to_rgba32f()
+            .pixels()
+            .for_each(|p| f(rgb(p[0], p[1], p[2]), p[3])),
+    }
+}
+
+/// The first `pixels` samples of a one-channel image buffer (which may be longer than its
+/// image).
+fn first_pixels<T>(mut raw: Vec<T>, pixels: u64) -> Vec<T> {
+    raw.truncate(usize::try_from(pixels).unwrap_or(usize::MAX));
+    raw
+}
+
+/// An 8-bit channel value on the [0, 1] scale. A division, not a multiplication by the
+/// reciprocal: the same value as `image`'s own conversion to floats.
+fn u8_value(v: u8) -> f32 {
+    f32::from(v) / 255.0
+}
+
+/// A 16-bit channel value on the [0, 1] scale (see [`u8_value`]).
+fn u16_value(v: u16) -> f32 {
+    f32::from(v) / 65535.0
+}
+
+/// Fraction of an image's pixels that must be mostly transparent (alpha below one half)
+/// for its alpha channel to be traced as the shape ([`AlphaRule::Auto`]).
+pub const ALPHA_SHAPE_FRACTION: f64 = 0.10;
+
+/// Whether the shape is the alpha channel or the luminance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AlphaRule {
+    /// The alpha channel when at least [`ALPHA_SHAPE_FRACTION`] of the pixels are mostly
+    /// transparent (a logo or silhouette on a transparent background), otherwise the
+    /// luminance composited over white (an opaque picture with a few transparent pixels,
+    /// an icon with rounded transparent corners).
+    #[default]
+    Auto,
+    /// Always the alpha channel; an image without one is an error.
+    Alpha,
+    /// Always the luminance, transparent pixels counting as white paper.
+    Luminance,
+}
+
+/// Bytes per pixel that tracing needs beyond the decoded image: the coverage levels (2,
+/// none when an 8-bit grey image's own buffer becomes them) and the thresholded mask
+/// while it is built (1), with room to spare (measured peak on a 4096 × 3359 grey
+/// silhouette: 34 MB in all, 2.5 bytes per pixel including the decoded image).
+const TRACE_BYTES_PER_PIXEL: u64 = 4;
+
+/// Checks that decoding (`decoded_bpp` bytes per pixel) and tracing a `width`×`height`
+/// image fits in the memory the system has available, so that a huge image is refused
+/// with a message instead of aborting on a failed allocation. Only where the available
+/// memory can be read (Linux: `MemAvailable` in /proc/meminfo); elsewhere it passes.
+fn check_memory(width: u32, height: u32, decoded_bpp: u64) -> Result<()> {
+    let pixels = u64::from(width) * u64::from(height);
+    let needed = pixels.saturating_mul(decoded_bpp + TRACE_BYTES_PER_PIXEL);
+    match available_memory() {
+        Some(available) if needed > available => Err(Error::OutOfMemory {
+            width,
+            height,
+            needed_mb: needed >> 20,
+            available_mb: available >> 20,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// The memory the system can give this process without swapping, in bytes, if known.
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb.saturating_mul(1024))
+}
+
+/// Turns a decoded image into a [`Bitmap`] (see the module docs for the coverage rules).
+///
+/// Errors: [`Error::ZeroSize`], [`Error::TooLarge`] (against `opts.max_pixels`),
+/// [`Error::InvalidOption`] for [`AlphaRule::Alpha`] on an image without alpha.
+pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
+    convert(Cow::Borrowed(img), opts)
+}
+
+/// [`from_image`], keeping an owned 8- or 16-bit grey image's pixel buffer as the bitmap's
+/// levels instead of copying it.
+fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
+    let (width, height) = img.dimensions();
+    check_dimensions(width, height, opts.max_pixels)?;
+    let pixels = u64::from(width) * u64::from(height);
+    let has_alpha = img.color().has_alpha();
+    let mut transparent = 0u64;
+    if has_alpha {
+        for_each_luma_alpha(&img, |_, a| transparent += u64::from(a < 0.5));
+    }
+    let transparent = transparent as f64 / pixels as f64;
+    let from_alpha = match opts.alpha {
+        AlphaRule::Auto => has_alpha && transparent >= ALPHA_SHAPE_FRACTION,
+        AlphaRule::Luminance => false,
+        AlphaRule::Alpha if has_alpha => true,
+        AlphaRule::Alpha => {
+            return Err(Error::InvalidOption {
+                name: "alpha",
+                message: "the image has no alpha channel".into(),
+            })
+        }
+    };
+    // With luminance, transparent pixels show the white paper under them.
+    let value = |l: f32, a: f32| {
+        let c = if from_alpha {
+            a
+        } else {
+            1.0 - (l * a + (1.0 - a))
+        };
+        if opts.invert {
+            1.0 - c
+        } else {
+            c
+        }
+    };
+    // A grey image's own buffer becomes the levels: taken over when the image is owned,
+    // copied when it is borrowed (as any conversion would copy it).
+    let img = match img {
+        Cow::Borrowed(grey @ (DynamicImage::ImageLuma8(_) | DynamicImage::ImageLuma16(_))) => {
+            Cow::Owned(grey.clone())
+        }
+        other => other,
+    };
+    let coverage = match img {
+        Cow::Owned(DynamicImage::ImageLuma8(b)) => {
+            Levels::bytes(first_pixels(b.into_raw(), pixels), |v| {
+                value(u8_value(v), 1.0)
+            })
+        }
+        Cow::Owned(DynamicImage::ImageLuma16(b)) => {
+            Levels::words(first_pixels(b.into_raw(), pixels), |v| {
+                value(u16_value(v), 1.0)
+            })
+        }
+        other => {
+            let mut levels = Vec::with_capacity(pixels as usize);
+            for_each_luma_alpha(&other, |l, a| levels.push(levels::quantise(value(l, a))));
+            Levels::quantised(levels)
+        }
+    };
+    let scale = match (from_alpha, opts.invert) {
+        (false, false) => ThresholdScale::Luminance,
+        (false, true) => ThresholdScale::InvertedLuminance,
+        (true, false) => ThresholdScale::Alpha,
+        (true, true) => ThresholdScale::InvertedAlpha,
+    };
+    let threshold = opts
+        .threshold
+        .map(|t| scale.coverage_threshold(f64::from(t)));
+    let mut bitmap = Bitmap::build(width, height, coverage, threshold, from_alpha)?;
+    bitmap.scale = scale;
+    bitmap.transparent = transparent;
+    Ok(bitmap)
+}
+
+/// Loads an image file into a [`Bitmap`]; see [`load_bytes`].
+///
+/// Errors: [`Error::Read`] when the file cannot be opened or read, and those of
+/// [`load_bytes`].
+pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    load_bytes(&bytes, path, opts)
+}
+
+/// Decodes an encoded image (`name` names it in errors) into a [`Bitmap`].
+///
+/// The format is recognised from the content, not the name. The dimensions are read from
+/// the header and checked before any pixel is decoded, and the decoder's memory is capped
+/// in proportion to `opts.max_pixels`, so a hostile header cannot make it allocate much
+/// more than an accepted image would need. The EXIF orientation (JPEG, PNG, TIFF, WebP) is
+/// applied as image viewers do, so a phone photo is traced upright. Animated GIF, PNG and
+/// WebP files and multi-page TIFF files give frame `opts.frame`. A JPEG without its end-of-image marker is
+/// refused as truncated: its decoder fills the missing rows silently.
+///
+/// Errors: [`Error::Decode`] when the bytes are not a supported image or are truncated or
+/// corrupt; [`Error::Unsupported`] for a TIFF pixel layout that is not read;
+/// [`Error::InvalidOption`] for a frame past the last; [`Error::ZeroSize`];
+/// [`Error::TooLarge`].
+pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+    let decode_error = |source| Error::Decode {
+        path: name.to_path_buf(),
+        source,
+    };
+    let reader = ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|source| Error::Read {
+            path: name.to_path_buf(),
+            source,
+        })?;
+    if reader.format() == Some(image::ImageFormat::Jpeg) && !jpeg_is_complete(bytes) {
+        return Err(decode_error(image::ImageError::IoError(
+            std::io::Error::new(
+                std::io::ErrorKind::UnexpectedEof,
+                "truncated JPEG (no end-of-image marker)",
+            ),
+        )));
+    }
+    let max_bytes = opts
+        .max_pixels
+        .saturating_mul(DECODE_BYTES_PER_PIXEL)
+        .saturating_add(DECODE_SLACK_BYTES);
+    let mut limits = Limits::default();
+    limits.max_alloc = Some(max_bytes);
+    let format = reader.format();
+    let check = |w, h, bpp| {
+        check_dimensions(w, h, opts.max_pixels)?;
+        check_memory(w, h, bpp)
+    };
+    let (img, frames) = if let Some(found) =
+        frames::animation_frame(bytes, format, opts.frame, &limits, name, &check)?
+    {
+        found
+    } else if format == Some(image::ImageFormat::Tiff) {
+        let pages = frames::tiff_page_count(bytes, name)?;
+        if opts.frame >= pages {
+            return Err(frames::out_of_range(opts.frame, pages));
+        }
+        // The `image` crate reads the first page (with its orientation); other pages, and
+        // first pages it does not support (floating-point grey), go through `tiff`.
+        let img = match (opts.frame == 0).then(|| decode_still(reader, limits, name, &check)) {
+            Some(Ok(img)) => img,
+            Some(Err(Error::Decode {
+                source: image::ImageError::Unsupported(_),
+                ..
+            }))
+            | None => frames::tiff_page(bytes, opts.frame, max_bytes, name, check)?,
+            Some(Err(e)) => return Err(e),
+        };
+        (img, pages)
+    } else {
+        if opts.frame > 0 {
+            return Err(frames::out_of_range(opts.frame, 1));
+        }
+        (decode_still(reader, limits, name, &check)?, 1)
+    };
+    let mut bitmap = convert(Cow::Owned(img), opts)?;
+    bitmap.frame = opts.frame;
+    bitmap.frames = frames;
+    Ok(bitmap)
+}
+
+/// Decodes a still image (or an animation's first frame) with `limits`, checking its size
+/// with `check` before any pixel is decoded and applying its EXIF orientation.
+fn decode_still(
+    mut reader: ImageReader<std::io::Cursor<&[u8]>>,
+    limits: Limits,
+    name: &Path,
+    check: &dyn Fn(u32, u32, u64) -> Result<()>,
+) -> Result<DynamicImage> {
+    let decode_error = |source| Error::Decode {
+        path: name.to_path_buf(),
+        source,
+    };
+    reader.limits(limits);
+    let mut decoder = reader.into_decoder().map_err(decode_error)?;
+    let (width, height) = decoder.dimensions();
+    check(
+        width,
+        height,
+        u64::from(decoder.color_type().bytes_per_pixel()),
+    )?;
+    // A missing or unreadable orientation tag means upright.
+    let orientation = decoder
+        .orientation()
+        .unwrap_or(image::metadata::Orientation::NoTransforms);
+    let mut img = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
+    img.apply_orientation(orientation);
+    Ok(img)
+}
+
+/// True when JPEG data ends with its end-of-image marker (FF D9), allowing for the
+/// padding some writers append after it.
+fn jpeg_is_complete(bytes: &[u8]) -> bool {
+    let tail = &bytes[bytes.len().saturating_sub(JPEG_TAIL_SLACK)..];
+    tail.windows(2).any(|w| w == [0xFF, 0xD9])
+}
+
+/// Bytes after a JPEG's last end-of-image marker that are still accepted (zero padding,
+/// a camera's trailer).
+const JPEG_TAIL_SLACK: usize = 4096;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::{GrayImage, Luma, LumaA, Rgba, RgbaImage};
+    use std::path::PathBuf;
+
+    fn opts() -> RasterOptions {
+        RasterOptions {
+            threshold: None,
+            alpha: AlphaRule::Auto,
+            invert: false,
+            max_pixels: 1 << 30,
+            frame: 0,
+        }
+    }
+
+    /// A unique path in the system temp directory.
+    fn temp_path(name: &str) -> PathBuf {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0);
+        std::env::temp_dir().join(format!(
+            "outlinefit-raster-{}-{nanos}-{name}",
+            std::process::id()
+        ))
+    }
+
+    /// A 6×4 grey image: a dark 2×2 block (luma 0) on white (255) with one mid-grey pixel.
+    fn block_image() -> GrayImage {
+        let mut img = GrayImage::from_pixel(6, 4, Luma([255]));
+        for (c, r) in [(2, 1), (3, 1), (2, 2), (3, 2)] {
+            img.put_pixel(c, r, Luma([0]));
+        }
+        img.put_pixel(4, 1, Luma([128]));
+        img
+    }
+
+    #[test]
+    fn dark_on_light_coverage_and_invert() {
+        let img = DynamicImage::ImageLuma8(block_image());
+        let b = from_image(&img, &opts()).unwrap();
+        assert_eq!((b.width, b.height), (6, 4));
+        assert_eq!(b.coverage_at(2, 1), 1.0);
+        assert_eq!(b.coverage_at(0, 0), 0.0);
+        assert!((b.coverage_at(4, 1) - (1.0 - 128.0 / 255.0)).abs() < 1e-6);
+        assert_eq!(b.coverage_at(-1, 0), 0.0);
+        assert_eq!(b.coverage_at(6, 0), 0.0);
+        assert!(!b.from_alpha());
+        assert!(!b.dark_border());
+
+        let inv = from_image(
+            &img,
+            &RasterOptions {
+                invert: true,
+                ..opts()
+            },
+        )
+        .unwrap();
+        assert_eq!(inv.coverage_at(2, 1), 0.0);
+        assert_eq!(inv.coverage_at(0, 0), 1.0);
+        assert!(inv.dark_border());
+    }
+
+    #[test]
+    fn sixteen_bit_precision_is_kept() {
+        let mut img = image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_pixel(2, 1, Luma([0]));
+        img.put_pixel(1, 0, Luma([32768]));
+        let b = from_image(&DynamicImage::ImageLuma16(img), &opts()).unwrap();
+        // 8-bit quantisation would give 127/255 or 128/255, 0.0020 away from 0.5.
+        assert!((b.coverage_at(1, 0) - (1.0 - 32768.0 / 65535.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn otsu_of_bilevel_is_half_and_fixed_threshold_is_used() {
+        let img = DynamicImage::ImageLuma8(block_image());
+        let b = from_image(&img, &opts()).unwrap();
+        // Levels {0, 127, 255}: Otsu separates 0 from the rest, the cut is in the empty
+        // range between 0 and 127: its middle is 63, 63.5/255 = 0.249.
+        assert!(
+            (b.threshold() - 63.5 / 255.0).abs() < 1e-12,
+            "{}",
+            b.threshold()
+        );
+
+        let mut pure = block_image();
+        pure.put_pixel(4, 1, Luma([255]));
+        let b = from_image(&DynamicImage::ImageLuma8(pure), &opts()).unwrap();
+        assert!((b.threshold() - 0.5).abs() < 1e-12);
+        assert!(b.is_bilevel());
+
+        let fixed = from_image(
+            &img,
+            &RasterOptions {
+                threshold: Some(100),
+                ..opts()
+            },
+        )
+        .unwrap();
+        // Darker than 100 is the shape: coverage above 1 − 99.5/255.
+        assert!((fixed.threshold() - (1.0 - 99.5 / 255.0)).abs() < 1e-12);
+        assert!((fixed.threshold_value() - 99.5).abs() < 1e-9);
+        // The grey pixel (luminance 128) is foreground at Otsu's level, not darker than 100.
+        let otsu_mask = from_image(&img, &opts()).unwrap().mask();
+        assert_eq!(otsu_mask.get_pixel(4, 1).0[0], 255);
+        assert_eq!(fixed.mask().get_pixel(4, 1).0[0], 0);
+        assert_eq!(fixed.mask().get_pixel(2, 1).0[0], 255);
+    }
+
+    #[test]
+    fn otsu_is_clamped() {
+        // 1 foreground pixel among 10 000 at coverage 0.1 levels: Otsu alone would cut near
+        // 0.05; the clamp keeps it at 0.2.
+        let mut cov = vec![0.0f32; 10_000];
+        cov[5] = 0.1;
+        cov[6] = 0.1;
+        let b = Bitmap::from_coverage(100, 100, cov, None).unwrap();
+        assert_eq!(b.threshold(), OTSU_MIN);
+        let b = Bitmap::from_coverage(2, 2, vec![0.9, 1.0, 1.0, 1.0], None).unwrap();
+        assert_eq!(b.threshold(), OTSU_MAX);
+        // A uniform field has no cut at all.
+        let b = Bitmap::from_coverage(2, 2, vec![0.3; 4], None).unwrap();
+        assert_eq!(b.threshold(), 0.5);
+    }
+
+    #[test]
+    fn otsu_separates_two_grey_populations() {
+        // Half the pixels around 0.3, half around 0.7: the cut must fall between them.
+        let cov: Vec<f32> = (0..400)
+            .map(|i| {
+                if i % 2 == 0 {
+                    0.28 + (i % 7) as f32 * 0.01
+                } else {
+                    0.68 + (i % 5) as f32 * 0.01
+                }
+            })
+            .collect();
+        let b = Bitmap::from_coverage(20, 20, cov, None).unwrap();
+        assert!(
+            b.threshold() > 0.34 && b.threshold() < 0.68,
+            "{}",
+            b.threshold()
+        );
+    }
+
+    #[test]
+    fn alpha_is_the_shape_even_for_white_logos() {
+        // A white, fully opaque 2×2 block on a transparent (black, alpha 0) background.
+        let mut img = RgbaImage::from_pixel(5, 5, Rgba([0, 0, 0, 0]));
+        for (c, r) in [(1, 1), (2, 1), (1, 2), (2, 2)] {
+            img.put_pixel(c, r, Rgba([255, 255, 255, 255]));
+        }
+        img.put_pixel(3, 1, Rgba([255, 255, 255, 64]));
+        let dynimg = DynamicImage::ImageRgba8(img);
+        let b = from_image(&dynimg, &opts()).unwrap();
+        assert!(b.from_alpha());
+        assert_eq!(b.coverage_at(1, 1), 1.0);
+        assert_eq!(b.coverage_at(0, 0), 0.0);
+        assert!((b.coverage_at(3, 1) - 64.0 / 255.0).abs() < 1e-6);
+        let inv = from_image(
+            &dynimg,
+            &RasterOptions {
+                invert: true,
+                ..opts()
+            },
+        )
+        .unwrap();
+        assert_eq!(inv.coverage_at(1, 1), 0.0);
+        assert_eq!(inv.coverage_at(0, 0), 1.0);
+
+        // An alpha channel that is opaque everywhere is ignored: luminance decides.
+        let mut opaque = image::GrayAlphaImage::from_pixel(3, 1, LumaA([255, 255]));
+        opaque.put_pixel(1, 0, LumaA([0, 255]));
+        let b = from_image(&DynamicImage::ImageLumaA8(opaque), &opts()).unwrap();
+        assert!(!b.from_alpha());
+        assert_eq!(b.to_coverage(), &[0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn alpha_is_traced_only_where_a_tenth_of_the_image_is_transparent() {
+        // 100 opaque pixels, a dark bar in the middle; `clear` of them transparent.
+        let picture = |clear: u32| {
+            let img = RgbaImage::from_fn(10, 10, |x, y| {
+                let dark = (3..7).contains(&x) && (3..7).contains(&y);
+                let a = if y * 10 + x < clear { 0 } else { 255 };
+                let v = if dark { 0 } else { 255 };
+                Rgba([v, v, v, a])
+            });
+            DynamicImage::ImageRgba8(img)
+        };
+        // One transparent pixel: the luminance is the shape, not the whole rectangle.
+        let b = from_image(&picture(1), &opts()).unwrap();
+        assert!(!b.from_alpha());
+        assert_eq!(b.to_coverage().iter().filter(|&&c| c > 0.5).count(), 16);
+        assert!((b.transparent_fraction() - 0.01).abs() < 1e-12);
+        // Nine transparent pixels (just under a tenth): still luminance; ten: alpha.
+        assert!(!from_image(&picture(9), &opts()).unwrap().from_alpha());
+        let b = from_image(&picture(10), &opts()).unwrap();
+        assert!(b.from_alpha());
+        assert_eq!(b.to_coverage().iter().filter(|&&c| c > 0.5).count(), 90);
+        // Either choice can be forced.
+        let forced = |alpha| RasterOptions { alpha, ..opts() };
+        assert!(from_image(&picture(1), &forced(AlphaRule::Alpha))
+            .unwrap()
+            .from_alpha());
+        assert!(!from_image(&picture(10), &forced(AlphaRule::Luminance))
+            .unwrap()
+            .from_alpha());
+        let grey = DynamicImage::ImageLuma8(GrayImage::new(4, 4));
+        assert!(matches!(
+            from_image(&grey, &forced(AlphaRule::Alpha)),
+            Err(Error::InvalidOption { name: "alpha", .. })
+        ));
+    }
+
+    #[test]
+    fn sample_is_bilinear_between_pixel_centres() {
+        let b = Bitmap::from_coverage(2, 2, vec![0.0, 1.0, 0.5, 0.25], Some(0.5)).unwrap();
+        assert_eq!(b.sample(Point::new(0.5, 0.5)), 0.0);
+        assert_eq!(b.sample(Point::new(1.5, 0.5)), 1.0);
+        assert_eq!(b.sample(Point::new(1.0, 0.5)), 0.5);
+        // Centre of the four: mean 0.4375 (to the 16-bit steps the values are stored in).
+        assert!((b.sample(Point::new(1.0, 1.0)) - 0.4375).abs() < 1e-5);
+        // Half a pixel past the right border: halfway to the outside zero.
+        assert!((b.sample(Point::new(2.0, 0.5)) - 0.5).abs() < 1e-7);
+        assert_eq!(b.sample(Point::new(2.5, 0.5)), 0.0);
+        assert_eq!(b.sample(Point::new(-3.0, 0.5)), 0.0);
+        assert_eq!(b.sample(Point::new(f64::NAN, 0.5)), 0.0);
+    }
+
+    #[test]
+    fn bilevel_detection() {
+        // A 0/1 square: bilevel.
+        let mut cov = vec![0.0f32; 100];
+        for r in 3..7 {
+            for c in 3..7 {
+                cov[r * 10 + c] = 1.0;
+            }
+        }
+        let b = Bitmap::from_coverage(10, 10, cov.clone(), None).unwrap();
+        assert!(b.is_bilevel());
+        // The same square with half-covered pixels around it: anti-aliased.
+        for r in 3..7 {
+            cov[r * 10 + 7] = 0.5;
+            cov[r * 10 + 2] = 0.5;
+        }
+        let b = Bitmap::from_coverage(10, 10, cov, None).unwrap();
+        assert!(!b.is_bilevel());
+    }
+
+    #[test]
+    fn dark_border_detection() {
+        let mut cov = vec![1.0f32; 16];
+        cov[5] = 0.0;
+        let b = Bitmap::from_coverage(4, 4, cov, Some(0.5)).unwrap();
+        assert!(b.dark_border());
+        let b = Bitmap::from_coverage(1, 3, vec![1.0, 0.0, 0.0], Some(0.5)).unwrap();
+        assert!(!b.dark_border());
+    }
+
+    #[test]
+    fn grey_levels_are_stored_exactly() {
+        // Every 8-bit and a spread of 16-bit levels, plain and inverted: the stored
+        // coverage is bit for bit the float conversion's (1 − v/255, v/255).
+        let img = GrayImage::from_raw(256, 1, (0..=255u8).collect()).unwrap();
+        let wide = image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_raw(
+            1024,
+            1,
+            (0..1024u32).map(|v| (v * 64 + v / 16) as u16).collect(),
+        )
+        .unwrap();
+        for invert in [false, true] {
+            let o = RasterOptions { invert, ..opts() };
+            let b = from_image(&DynamicImage::ImageLuma8(img.clone()), &o).unwrap();
+            for (v, c) in (0..=255u8).zip(b.to_coverage()) {
+                let l = f32::from(v) / 255.0;
+                let want = if invert { 1.0 - (1.0 - l) } else { 1.0 - l };
+                assert_eq!(c.to_bits(), want.to_bits(), "{v} {invert}");
+            }
+            let b = from_image(&DynamicImage::ImageLuma16(wide.clone()), &o).unwrap();
+            for (&v, c) in wide.as_raw().iter().zip(b.to_coverage()) {
+                let l = f32::from(v) / 65535.0;
+                let want = if invert { 1.0 - (1.0 - l) } else { 1.0 - l };
+                assert_eq!(c.to_bits(), want.to_bits(), "{v} {invert}");
+            }
+        }
+        // A buffer longer than its pixels keeps only the pixels.
+        let long = GrayImage::from_raw(2, 2, vec![0, 255, 255, 0, 7, 7]).unwrap();
+        let b = from_image(&DynamicImage::ImageLuma8(long), &opts()).unwrap();
+        assert_eq!(b.to_coverage(), vec![1.0, 0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn mask_and_preview() {
+        let b = Bitmap::from_coverage(3, 1, vec![0.0, 0.5, 1.0], Some(0.5)).unwrap();
+        assert_eq!(b.mask().into_raw(), vec![0, 255, 255]);
+        // 0.5 is stored as 32768/65535, a hair above one half.
+        assert_eq!(b.preview().into_raw(), vec![255, 127, 0]);
+    }
+
+    #[test]
+    fn from_coverage_validates() {
+        assert!(matches!(
+            Bitmap::from_coverage(0, 3, vec![], None),
+            Err(Error::ZeroSize {
+                width: 0,
+                height: 3
+            })
+        ));
+        assert!(matches!(
+            Bitmap::from_coverage(2, 2, vec![0.0; 3], None),
+            Err(Error::InvalidOption { .. })
+        ));
+        assert!(matches!(
+            Bitmap::from_coverage(1, 1, vec![0.0], Some(1.5)),
+            Err(Error::InvalidOption { .. })
+        ));
+        let b = Bitmap::from_coverage(3, 1, vec![f32::NAN, -2.0, 7.0], Some(0.5)).unwrap();
+        assert_eq!(b.to_coverage(), &[0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn size_limits() {
+        let img = DynamicImage::ImageLuma8(GrayImage::new(0, 5));
+        assert!(matches!(
+            from_image(&img, &opts()),
+            Err(Error::ZeroSize {
+                width: 0,
+                height: 5
+            })
+        ));
+        let img = DynamicImage::ImageLuma8(GrayImage::new(10, 10));
+        let small = RasterOptions {
+            max_pixels: 99,
+            ..opts()
+        };
+        assert!(matches!(
+            from_image(&img, &small),
+            Err(Error::TooLarge {
+                pixels: 100,
+                limit: 99,
+                ..
+            })
+        ));
+
+        // From a file: the header alone decides.
+        let path = temp_path("big.png");
+        img.save(&path).unwrap();
+        let res = load(&path, &small);
+        let ok = load(&path, &opts());
+        let _ = std::fs::remove_file(&path);
+        assert!(
+            matches!(res, Err(Error::TooLarge { pixels: 100, .. })),
+            "{res:?}"
+        );
+        assert_eq!(ok.unwrap().width, 10);
+    }
+
+    #[test]
+    fn zero_size_file_is_rejected() {
+        // A PGM header may declare 0×4 pixels.
+        let path = temp_path("empty.pgm");
+        std::fs::write(&path, b"P5\n0 4\n255\n").unwrap();
+        let res = load(&path, &opts());
+        let _ = std::fs::remove_file(&path);
+        assert!(matches!(res, Err(Error::ZeroSize { .. })), "{res:?}");
+    }
+
+    #[test]
+    fn read_and_decode_errors() {
+        let missing = temp_path("missing.png");
+        assert!(matches!(load(&missing, &opts()), Err(Error::Read { .. })));
+
+        // Not an image, whatever its name says.
+        let fake = temp_path("fake.png");
+        std::fs::write(&fake, b"this is plain text, not a PNG").unwrap();
+        let res = load(&fake, &opts());
+        let _ = std::fs::remove_file(&fake);
+        assert!(matches!(res, Err(Error::Decode { .. })), "{res:?}");
+
+        // A truncated PNG.
+        let mut img = GrayImage::new(64, 64);
+        for (i, p) in img.pixels_mut().enumerate() {
+            p.0[0] = (i * 37 % 251) as u8;
+        }
+        let full = temp_path("full.png");
+        DynamicImage::ImageLuma8(img).save(&full).unwrap();
+        let bytes = std::fs::read(&full).unwrap();
+        let _ = std::fs::remove_file(&full);
+        let cut = temp_path("cut.png");
+        std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+        let res = load(&cut, &opts());
+        let _ = std::fs::remove_file(&cut);
+        assert!(matches!(res, Err(Error::Decode { .. })), "{res:?}");
+    }
+
+    #[test]
+    fn content_decides_the_format() {
+        // A PNG named .jpg, and a BMP named .png.
+        let img = DynamicImage::ImageLuma8(block_image());
+        let png = temp_path("really-png.png");
+        img.save(&png).unwrap();
+        let misnamed = temp_path("misnamed.jpg");
+        std::fs::rename(&png, &misnamed).unwrap();
+        let res = load(&misnamed, &opts());
+        let _ = std::fs::remove_file(&misnamed);
+        assert_eq!(res.unwrap().coverage_at(2, 1), 1.0);
+
+        let bmp = temp_path("really-bmp.bmp");
+        DynamicImage::ImageRgb8(img.to_rgb8()).save(&bmp).unwrap();
+        let misnamed = temp_path("misnamed-bmp.png");
+        std::fs::rename(&bmp, &misnamed).unwrap();
+        let res = load(&misnamed, &opts());
+        let _ = std::fs::remove_file(&misnamed);
+        assert_eq!(res.unwrap().coverage_at(3, 2), 1.0);
+    }
+}
