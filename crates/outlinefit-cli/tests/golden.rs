@@ -6,7 +6,7 @@
 //!
 //! ```sh
 //! OUTLINEFIT_BLESS=1 cargo test --release --test golden
-//! git diff --stat tests/golden
+//! git diff --stat crates/outlinefit-cli/tests/golden
 //! ```
 
 mod common;
@@ -41,7 +41,8 @@ fn first_difference(want: &str, got: &str) -> String {
 #[test]
 fn samples_match_their_stored_outputs() {
     let bless = std::env::var_os("OUTLINEFIT_BLESS").is_some_and(|v| v != "0");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The repository root, two levels above this crate.
+    let root = &Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let out = common::scratch("golden");
     let stored = golden_dir();
     if bless {
@@ -52,7 +53,7 @@ fn samples_match_their_stored_outputs() {
     let mut mismatches = Vec::new();
     for sample in &samples {
         let stem = sample.file_stem().unwrap().to_string_lossy().to_string();
-        // A path relative to the crate, so that the report names it the same everywhere.
+        // A path relative to the repository, so that the report names it the same everywhere.
         let input = sample.strip_prefix(root).unwrap();
         let files = ["svg", "json", "csv"].map(|ext| (ext, out.join(format!("{stem}.{ext}"))));
         let status = common::bin()
@@ -95,7 +96,7 @@ fn samples_match_their_stored_outputs() {
     assert!(
         mismatches.is_empty(),
         "{}\n\nIf the change is intended: OUTLINEFIT_BLESS=1 cargo test --release --test golden, \
-         then review `git diff tests/golden`.",
+         then review `git diff crates/outlinefit-cli/tests/golden`.",
         mismatches.join("\n")
     );
 }
