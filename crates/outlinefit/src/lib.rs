@@ -56,14 +56,14 @@ mod error;
 mod export;
 mod fidelity;
 pub mod fit;
-pub mod geom;
+mod geom;
 pub mod io;
 mod linalg;
 pub mod merge;
 pub mod optim;
 mod param;
 pub mod quad;
-pub mod raster;
+mod raster;
 mod repair;
 pub mod report;
 pub mod svg_writer;
@@ -78,8 +78,8 @@ pub use crate::fidelity::Fidelity;
 pub use crate::fit::placement::BreakPlacement;
 pub use crate::fit::refit::Search;
 pub use crate::fit::{FittedContour, FittedSegment, Joint, Method, SegmentError};
-pub use crate::geom::Point;
-pub use crate::raster::{AlphaRule, Bitmap, RasterOptions};
+pub use crate::geom::{Bounds, Point};
+pub use crate::raster::{AlphaRule, Bitmap, RasterOptions, ThresholdScale};
 pub use crate::trace::{trace_bitmap, trace_file, Config, ImageInfo, TraceResult};
 
 /// The version of this crate, recorded in reports.

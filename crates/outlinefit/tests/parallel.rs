@@ -3,7 +3,7 @@
 
 use outlinefit::{to_svg, SvgOptions};
 use outlinefit::optim::Algorithm;
-use outlinefit::raster::Bitmap;
+use outlinefit::Bitmap;
 use outlinefit::{extract_contours, trace_bitmap, Config, ContourOptions, Method, TraceResult};
 
 /// A 480 × 360 page of 12 × 9 anti-aliased rings and disks (4 × 4 supersampled), radii

@@ -4,7 +4,7 @@
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
 use outlinefit::optim::Algorithm;
-use outlinefit::raster::AlphaRule;
+use outlinefit::AlphaRule;
 use outlinefit::{Config, Search};
 
 /// What a metaheuristic searches, as named on the command line.

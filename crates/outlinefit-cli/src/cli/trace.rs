@@ -10,7 +10,7 @@ use clap::Args;
 use outlinefit::{to_overlay_svg, OverlayOptions};
 use outlinefit::{to_svg, SvgOptions};
 use outlinefit::io::ensure_output_dir_exists;
-use outlinefit::{raster, report, trace_bitmap};
+use outlinefit::{report, trace_bitmap, Bitmap};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
@@ -104,9 +104,9 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
             .lock()
             .read_to_end(&mut bytes)
             .context("cannot read standard input")?;
-        raster::load_bytes(&bytes, Path::new("<stdin>"), &config.raster_options())?
+        Bitmap::load_bytes(&bytes, Path::new("<stdin>"), &config.raster_options())?
     } else {
-        raster::load(&args.input, &config.raster_options())?
+        Bitmap::load(&args.input, &config.raster_options())?
     };
     let result = trace_bitmap(&bitmap, &config)?;
     let name = if from_stdin {

@@ -8,7 +8,7 @@
 //! curve-evaluation crates (e.g. `bspline`) do not expose; the two algorithms are thirty
 //! lines.
 
-use outlinefit::geom::Point;
+use outlinefit::Point;
 
 /// Index `s` of the knot span `[knots[s], knots[s+1])` containing `u`, for a clamped knot
 /// vector of `n_ctrl + order` knots; `u` at (or beyond) the last knot belongs to the last
@@ -120,7 +120,7 @@ impl BSpline {
     }
 }
 
-impl outlinefit::curve::param_curve::ParamCurve for BSpline {
+impl outlinefit::ParamCurve for BSpline {
     fn domain(&self) -> (f64, f64) {
         BSpline::domain(self)
     }
@@ -216,7 +216,7 @@ mod tests {
         };
         outlinefit::curve::check_param_curve(&s, "B-spline");
         // The clamped ends: P'(a) = (k − 1)(P1 − P0)/(t_k − t_1).
-        let d = outlinefit::curve::param_curve::ParamCurve::derivative(&s, 1.0);
+        let d = outlinefit::ParamCurve::derivative(&s, 1.0);
         assert!((d - Point::new(0.5, 1.5) * (3.0 / 0.5)).length() < 1e-12);
     }
 }

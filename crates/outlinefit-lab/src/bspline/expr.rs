@@ -23,7 +23,7 @@
 //! (the usual one).
 
 use crate::{Error, Result};
-use outlinefit::geom::Point;
+use outlinefit::Point;
 use exmex::prelude::*;
 
 /// The functions an expression may call (each one exmex can differentiate).

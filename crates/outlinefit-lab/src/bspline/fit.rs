@@ -38,7 +38,7 @@
 
 use super::basis::{basis_functions, find_span, BSpline, MAX_ORDER};
 use super::expr::ParametricCurve;
-use outlinefit::geom::Point;
+use outlinefit::Point;
 use outlinefit::optim::Problem;
 use nalgebra::DMatrix;
 use serde::Serialize;

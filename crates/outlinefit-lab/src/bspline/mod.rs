@@ -213,7 +213,7 @@ impl Conversion {
             control_points: self
                 .control_points
                 .iter()
-                .map(|&[x, y]| outlinefit::geom::Point::new(x, y))
+                .map(|&[x, y]| outlinefit::Point::new(x, y))
                 .collect(),
         }
     }

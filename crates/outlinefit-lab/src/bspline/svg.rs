@@ -6,7 +6,7 @@
 
 use super::expr::ParametricCurve;
 use super::Conversion;
-use outlinefit::geom::{Bounds, Point};
+use outlinefit::{Bounds, Point};
 use outlinefit::svg_writer::{
     number, points_attribute, Circle, Document, Group, Line, Polyline, Rectangle, Text,
 };

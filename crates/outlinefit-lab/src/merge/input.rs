@@ -3,7 +3,7 @@
 
 use outlinefit::curve::wang_ball::{Disk, DiskWangBall};
 use crate::{Error, Result};
-use outlinefit::geom::Point;
+use outlinefit::Point;
 use serde::Deserialize;
 
 #[derive(Deserialize)]

@@ -3,7 +3,7 @@
 //! Example 1's (papers/NOTES.md).
 
 use outlinefit::curve::wang_ball::{Disk, DiskWangBall};
-use outlinefit::geom::Point;
+use outlinefit::Point;
 
 /// A DWB curve from `(x, y, r)` triples.
 pub(crate) fn dwb(data: &[(f64, f64, f64)]) -> DiskWangBall {

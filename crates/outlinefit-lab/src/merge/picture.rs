@@ -3,10 +3,10 @@
 //! envelope has no point, so the band polygon skips those samples (the control disks are
 //! drawn as dashed circles beside it).
 
-use outlinefit::curve::param_curve::ParamCurve as _;
+use outlinefit::ParamCurve as _;
 pub use outlinefit::curve::wang_ball::envelope::{envelope, envelope_band, envelope_points};
 use outlinefit::curve::wang_ball::DiskWangBall;
-use outlinefit::geom::{Bounds, Point};
+use outlinefit::{Bounds, Point};
 use outlinefit::svg_writer::{Circle, Document, Group, Path, PathData, Rectangle, Text};
 
 /// Samples per curve for center lines and envelopes.

@@ -7,10 +7,10 @@
 //! such as `"lamda"` is not silently ignored.
 
 use super::Reduction;
-use outlinefit::curve::param_curve::ParamCurve as _;
+use outlinefit::ParamCurve as _;
 use crate::reduce::sg_bezier::{SgBezier, SgShape};
 use crate::{Error, Result};
-use outlinefit::geom::{Bounds, Point};
+use outlinefit::{Bounds, Point};
 use outlinefit::svg_writer::{
     decimals_for, number, points_attribute, Circle, Document, Polyline, Rectangle, Title,
 };

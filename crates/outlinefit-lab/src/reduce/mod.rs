@@ -74,7 +74,7 @@ pub use file::{parse_curve_json, read_curve_json, reduction_svg};
 use outlinefit::curve::basis::binomial;
 use crate::reduce::sg_bezier::{sg_basis, sg_to_bernstein, SgBezier, SgShape};
 use crate::{Error, Result};
-use outlinefit::geom::Point;
+use outlinefit::Point;
 use outlinefit::optim::{self, Problem, SeededRng};
 use outlinefit::quad::GaussLegendre;
 use nalgebra::DMatrix;

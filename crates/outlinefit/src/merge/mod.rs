@@ -31,7 +31,7 @@
 //! [`outline`] applies merging to traced outlines (`trace --merge`).
 
 mod bounded;
-pub mod outline;
+pub(crate) mod outline;
 
 use crate::curve::wang_ball::{merge_lambda, wang_ball_basis, Disk, DiskWangBall};
 use crate::error::{Error, Result};

@@ -174,6 +174,40 @@ pub struct Bitmap {
 }
 
 impl Bitmap {
+    /// Turns a decoded image into a [`Bitmap`] (see the module docs for the coverage rules).
+    ///
+    /// Errors: [`Error::ZeroSize`], [`Error::TooLarge`] (against `opts.max_pixels`),
+    /// [`Error::InvalidOption`] for [`AlphaRule::Alpha`] on an image without alpha.
+    pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
+        from_image(img, opts)
+    }
+
+    /// Loads an image file into a [`Bitmap`]; see [`Bitmap::load_bytes`].
+    ///
+    /// Errors: [`Error::Read`] when the file cannot be opened or read, and those of
+    /// [`Bitmap::load_bytes`].
+    pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+        load(path, opts)
+    }
+
+    /// Decodes an encoded image (`name` names it in errors) into a [`Bitmap`].
+    ///
+    /// The format is recognised from the content, not the name. The dimensions are read from
+    /// the header and checked before any pixel is decoded, and the decoder's memory is capped
+    /// in proportion to `opts.max_pixels`, so a hostile header cannot make it allocate much
+    /// more than an accepted image would need. The EXIF orientation (JPEG, PNG, TIFF, WebP) is
+    /// applied as image viewers do, so a phone photo is traced upright. Animated GIF, PNG and
+    /// WebP files and multi-page TIFF files give frame `opts.frame`. A JPEG without its end-of-image marker is
+    /// refused as truncated: its decoder fills the missing rows silently.
+    ///
+    /// Errors: [`Error::Decode`] when the bytes are not a supported image or are truncated or
+    /// corrupt; [`Error::Unsupported`] for a TIFF pixel layout that is not read;
+    /// [`Error::InvalidOption`] for a frame past the last; [`Error::ZeroSize`];
+    /// [`Error::TooLarge`].
+    pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+        load_bytes(bytes, name, opts)
+    }
+
     /// Builds a bitmap from a row-major coverage field (1 = foreground, 0 = background).
     ///
     /// Values are clamped to [0, 1], NaN counts as background, and each is stored to 16
@@ -642,11 +676,8 @@ fn available_memory() -> Option<u64> {
     Some(kb.saturating_mul(1024))
 }
 
-/// Turns a decoded image into a [`Bitmap`] (see the module docs for the coverage rules).
-///
-/// Errors: [`Error::ZeroSize`], [`Error::TooLarge`] (against `opts.max_pixels`),
-/// [`Error::InvalidOption`] for [`AlphaRule::Alpha`] on an image without alpha.
-pub fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
+/// [`Bitmap::from_image`].
+pub(crate) fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bitmap> {
     convert(Cow::Borrowed(img), opts)
 }
 
@@ -726,11 +757,8 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
     Ok(bitmap)
 }
 
-/// Loads an image file into a [`Bitmap`]; see [`load_bytes`].
-///
-/// Errors: [`Error::Read`] when the file cannot be opened or read, and those of
-/// [`load_bytes`].
-pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+/// [`Bitmap::load`].
+pub(crate) fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     let bytes = std::fs::read(path).map_err(|source| Error::Read {
         path: path.to_path_buf(),
         source,
@@ -738,21 +766,8 @@ pub fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     load_bytes(&bytes, path, opts)
 }
 
-/// Decodes an encoded image (`name` names it in errors) into a [`Bitmap`].
-///
-/// The format is recognised from the content, not the name. The dimensions are read from
-/// the header and checked before any pixel is decoded, and the decoder's memory is capped
-/// in proportion to `opts.max_pixels`, so a hostile header cannot make it allocate much
-/// more than an accepted image would need. The EXIF orientation (JPEG, PNG, TIFF, WebP) is
-/// applied as image viewers do, so a phone photo is traced upright. Animated GIF, PNG and
-/// WebP files and multi-page TIFF files give frame `opts.frame`. A JPEG without its end-of-image marker is
-/// refused as truncated: its decoder fills the missing rows silently.
-///
-/// Errors: [`Error::Decode`] when the bytes are not a supported image or are truncated or
-/// corrupt; [`Error::Unsupported`] for a TIFF pixel layout that is not read;
-/// [`Error::InvalidOption`] for a frame past the last; [`Error::ZeroSize`];
-/// [`Error::TooLarge`].
-pub fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+/// [`Bitmap::load_bytes`].
+pub(crate) fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     let decode_error = |source| Error::Decode {
         path: name.to_path_buf(),
         source,
