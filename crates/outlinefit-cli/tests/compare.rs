@@ -5,9 +5,9 @@
 
 mod common;
 
-use outlinefit_lab::compare::{compare_image, statistics, CompareOptions, ImageComparison};
 use outlinefit::optim::Algorithm;
 use outlinefit::{Config, Search};
+use outlinefit_lab::compare::{compare_image, statistics, CompareOptions, ImageComparison};
 use std::path::PathBuf;
 use std::process::Command;
 

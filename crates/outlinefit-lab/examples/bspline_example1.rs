@@ -7,8 +7,8 @@
 //! `EX1_METHODS=hs,uniform` (default: all optimizers and `uniform`), `EX1_SEEDS=5`,
 //! `EX1_FIT=curve|samples` (default both), `EX1_BUDGETS=3000,10000` (default 3000).
 
-use outlinefit_lab::bspline::{convert, ConvertOptions, FitTarget, ParametricCurve, UNIFORM};
 use outlinefit::optim;
+use outlinefit_lab::bspline::{convert, ConvertOptions, FitTarget, ParametricCurve, UNIFORM};
 
 fn main() {
     let curve = ParametricCurve::parse(

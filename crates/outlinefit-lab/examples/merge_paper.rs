@@ -6,8 +6,8 @@
 //! paper's 25 000 evaluations = population 50 × 500 iterations).
 
 use outlinefit::merge::{MergeMethod as Method, MergeOptions, MergeProblem};
-use outlinefit_lab::merge::paper;
 use outlinefit::optim;
+use outlinefit_lab::merge::paper;
 use rayon::prelude::*;
 use std::time::Instant;
 

@@ -7,7 +7,9 @@
 //! throughput in evaluations per second ("elem/s").
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use outlinefit::fit::solve::{centripetal_parameters, EndCondition, SegmentProblem, WeightsProblem};
+use outlinefit::fit::solve::{
+    centripetal_parameters, EndCondition, SegmentProblem, WeightsProblem,
+};
 use outlinefit::optim::{HarmonySearch, Optimizer, Problem, SeededRng};
 use outlinefit::{Point, RationalCubic};
 use rand::SeedableRng;

@@ -32,11 +32,11 @@ use serde::Serialize;
 use std::collections::HashSet;
 
 /// Largest distance (px) between a drawn cubic and its flattening.
-pub const FLATTEN_ERROR: f64 = 0.01;
+pub(crate) const FLATTEN_ERROR: f64 = 0.01;
 
 /// Longest chord (px) of the flattened drawn path, whatever the curvature: a straight
 /// piece still becomes several edges, so that no edge spans many cells of the edge grid.
-pub const FLATTEN_MAX_CHORD: f64 = 2.0;
+pub(crate) const FLATTEN_MAX_CHORD: f64 = 2.0;
 
 /// Number of equal parameter steps that flatten `cubic` within [`FLATTEN_ERROR`]: linear
 /// interpolation over a parameter interval h is within h²/8·max|B''| of the curve (both
@@ -65,7 +65,7 @@ fn flatten_steps(cubic: &CubicBez) -> usize {
 
 /// Distance (px) from the drawn outline beyond which a disagreeing pixel is a lost or
 /// invented part, and the deviation limit of fits that promise no tolerance.
-pub const SHAPE_LIMIT: f64 = 1.0;
+pub(crate) const SHAPE_LIMIT: f64 = 1.0;
 
 /// Cell size (px) of the spatial grid of drawn edges: small, so that a query looks at few
 /// edges, but the grid never holds more than `CELLS_PER_EDGE` cells per edge.

@@ -214,7 +214,7 @@ impl Bounds {
 
 /// Signed area of a closed polygon by the shoelace formula, in the image frame
 /// (y down): positive for loops that run clockwise on screen.
-pub fn signed_area(points: &[Point]) -> f64 {
+pub(crate) fn signed_area(points: &[Point]) -> f64 {
     let n = points.len();
     if n < 3 {
         return 0.0;
@@ -232,7 +232,13 @@ pub fn signed_area(points: &[Point]) -> f64 {
 /// a + da·s with s = ((b − a) × db) / (da × db). `None` when the sine of the angle between
 /// them is below `min_sin` (|da × db| < min_sin·|da|·|db|: parallel, or nearly so) or
 /// the crossing is not finite.
-pub fn line_crossing(a: Point, da: Point, b: Point, db: Point, min_sin: f64) -> Option<Point> {
+pub(crate) fn line_crossing(
+    a: Point,
+    da: Point,
+    b: Point,
+    db: Point,
+    min_sin: f64,
+) -> Option<Point> {
     let den = da.cross(db);
     if den.abs() < min_sin * da.length() * db.length() {
         return None;
@@ -242,7 +248,7 @@ pub fn line_crossing(a: Point, da: Point, b: Point, db: Point, min_sin: f64) -> 
 }
 
 /// Distance from `p` to the segment from `a` to `b` (to `a` when they coincide).
-pub fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
+pub(crate) fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
     let ab = b - a;
     let len2 = ab.length_squared();
     let t = if len2 > 0.0 {
@@ -254,7 +260,7 @@ pub fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
 }
 
 /// Distance from `p` to a closed polyline (infinite for an empty one).
-pub fn distance_to_closed_polyline(p: Point, points: &[Point]) -> f64 {
+pub(crate) fn distance_to_closed_polyline(p: Point, points: &[Point]) -> f64 {
     let n = points.len();
     (0..n)
         .map(|k| segment_distance(p, points[k], points[(k + 1) % n]))
@@ -287,7 +293,7 @@ pub(crate) fn wrap_once(x: f64, m: f64) -> f64 {
 }
 
 /// Angle in radians, in [0, π], between two non-zero vectors; 0 for a zero vector.
-pub fn angle_between(a: Point, b: Point) -> f64 {
+pub(crate) fn angle_between(a: Point, b: Point) -> f64 {
     let la = a.length();
     let lb = b.length();
     if la == 0.0 || lb == 0.0 {

@@ -69,7 +69,9 @@ pub mod report;
 pub mod svg_writer;
 mod trace;
 
-pub use crate::breaks::{find_breaks, Break, BreakOptions, BreakReason, JointKind, SegmentedContour};
+pub use crate::breaks::{
+    find_breaks, Break, BreakOptions, BreakReason, JointKind, SegmentedContour,
+};
 pub use crate::contour::{extract_contours, Contour, ContourOptions};
 pub use crate::curve::{CubicBez, ParamCurve, RationalCubic};
 pub use crate::error::{Error, ForegroundHint, Result};

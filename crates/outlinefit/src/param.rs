@@ -23,7 +23,7 @@ pub enum Parameterization {
 /// Writes parameters for `points` into `out` (resized to `points.len()`): 0 for the first
 /// point, 1 for the last, non-decreasing in between. Coincident points share a parameter.
 /// With fewer than two distinct points every parameter is spread uniformly.
-pub fn parameters_into(points: &[Point], rule: Parameterization, out: &mut Vec<f64>) {
+pub(crate) fn parameters_into(points: &[Point], rule: Parameterization, out: &mut Vec<f64>) {
     let n = points.len();
     out.clear();
     if n == 0 {

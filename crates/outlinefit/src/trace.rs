@@ -338,7 +338,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     let break_options =
         BreakOptions::for_image(config.corner_angle, bitmap.width(), bitmap.height());
     let lsq_options = config.lsq_options();
-    let placement_options = (config.breaks == BreakPlacement::Optimize).then(|| config.placement_options());
+    let placement_options =
+        (config.breaks == BreakPlacement::Optimize).then(|| config.placement_options());
     let meta_options = config.meta_options();
     let merge_options = config.merge.then_some(merge::outline::OutlineMergeOptions {
         degree: config.merge_degree,

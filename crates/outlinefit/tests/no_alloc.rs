@@ -1,7 +1,9 @@
 //! Objective evaluation must not allocate: both search spaces, and the optimizer's
 //! evaluation path through the tracker, are counted with a counting global allocator.
 
-use outlinefit::fit::solve::{centripetal_parameters, EndCondition, SegmentProblem, WeightsProblem};
+use outlinefit::fit::solve::{
+    centripetal_parameters, EndCondition, SegmentProblem, WeightsProblem,
+};
 use outlinefit::optim::{Problem, Tracker};
 use outlinefit::Point;
 

@@ -1,10 +1,10 @@
 //! An image with many contours has them fitted in parallel; the result must not depend on
 //! the number of threads, down to the last bit of every number.
 
-use outlinefit::{to_svg, SvgOptions};
 use outlinefit::optim::Algorithm;
 use outlinefit::Bitmap;
 use outlinefit::{extract_contours, trace_bitmap, Config, ContourOptions, Method, TraceResult};
+use outlinefit::{to_svg, SvgOptions};
 
 /// A 480 × 360 page of 12 × 9 anti-aliased rings and disks (4 × 4 supersampled), radii
 /// 9 to 15 px: about a hundred contours of similar size.

@@ -3,10 +3,10 @@
 
 mod common;
 
-use outlinefit::{to_svg, SvgOptions};
-use outlinefit::fit::refit::{reference_errors, RefitOptions};
 use outlinefit::fit::refit::fit_contour;
+use outlinefit::fit::refit::{reference_errors, RefitOptions};
 use outlinefit::optim::Algorithm;
+use outlinefit::{to_svg, SvgOptions};
 use outlinefit::{trace_file, BreakPlacement, Config, JointKind, Method, Search};
 
 /// Every smooth joint is G1 to 1e-9 with a finite positive β, and the chain is closed: each

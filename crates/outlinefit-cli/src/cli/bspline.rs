@@ -4,9 +4,11 @@
 use super::args::whole;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
-use outlinefit_lab::bspline::{self as bs, convert, svg, ConvertOptions, FitTarget, ParametricCurve};
 use outlinefit::io::write_atomic;
 use outlinefit::Error;
+use outlinefit_lab::bspline::{
+    self as bs, convert, svg, ConvertOptions, FitTarget, ParametricCurve,
+};
 use std::io::Write;
 use std::path::PathBuf;
 

@@ -5,9 +5,9 @@ use anyhow::{bail, Context};
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use outlinefit_lab::compare::{compare_image, image_stems, output, statistics, CompareOptions};
 use outlinefit::optim::Algorithm;
 use outlinefit::Config;
+use outlinefit_lab::compare::{compare_image, image_stems, output, statistics, CompareOptions};
 use std::path::PathBuf;
 
 /// Arguments of `compare`.

@@ -7,10 +7,10 @@ use super::output::{
 };
 use anyhow::{bail, Context};
 use clap::Args;
-use outlinefit::{to_overlay_svg, OverlayOptions};
-use outlinefit::{to_svg, SvgOptions};
 use outlinefit::io::ensure_output_dir_exists;
 use outlinefit::{report, trace_bitmap, Bitmap};
+use outlinefit::{to_overlay_svg, OverlayOptions};
+use outlinefit::{to_svg, SvgOptions};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 

@@ -23,8 +23,8 @@
 //! (the usual one).
 
 use crate::{Error, Result};
-use outlinefit::Point;
 use exmex::prelude::*;
+use outlinefit::Point;
 
 /// The functions an expression may call (each one exmex can differentiate).
 pub const FUNCTIONS: &[&str] = &[

@@ -38,9 +38,9 @@
 
 use super::basis::{basis_functions, find_span, BSpline, MAX_ORDER};
 use super::expr::ParametricCurve;
-use outlinefit::Point;
-use outlinefit::optim::Problem;
 use nalgebra::DMatrix;
+use outlinefit::optim::Problem;
+use outlinefit::Point;
 use serde::Serialize;
 
 /// The clamped knot vector by the averaging rule (module docs) for sorted sample

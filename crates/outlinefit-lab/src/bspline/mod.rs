@@ -40,8 +40,8 @@ pub use features::{feature_points, FeatureKind, FeaturePoint};
 pub use fit::FitTarget;
 
 use crate::{Error, Result};
-use outlinefit::optim::{self, SeededRng};
 use fit::{DenseReference, SamplingProblem};
+use outlinefit::optim::{self, SeededRng};
 use rand::SeedableRng;
 use serde::Serialize;
 

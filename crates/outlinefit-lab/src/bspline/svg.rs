@@ -6,10 +6,10 @@
 
 use super::expr::ParametricCurve;
 use super::Conversion;
-use outlinefit::{Bounds, Point};
 use outlinefit::svg_writer::{
     number, points_attribute, Circle, Document, Group, Line, Polyline, Rectangle, Text,
 };
+use outlinefit::{Bounds, Point};
 
 /// Points of the polylines that draw the curve and the spline.
 const POLYLINE_POINTS: usize = 1000;

@@ -13,12 +13,12 @@
 pub mod output;
 pub mod plot;
 
+use crate::stats::{self, Anova, Describe, FTest, Normality, TTest};
 use crate::{Error, Result};
-use outlinefit::fit::refit::{reference_errors, RefitOptions, Search};
 use outlinefit::fit::refit::fit_contour;
+use outlinefit::fit::refit::{reference_errors, RefitOptions, Search};
 use outlinefit::fit::Method;
 use outlinefit::optim::Algorithm;
-use crate::stats::{self, Anova, Describe, FTest, Normality, TTest};
 use outlinefit::{trace_file, Config};
 use rayon::prelude::*;
 use serde::Serialize;

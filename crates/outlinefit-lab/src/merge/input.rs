@@ -1,8 +1,8 @@
 //! The `merge` command's input file: two adjacent DWB curves as JSON,
 //! `{"curves": [{"centers": [[x, y], …], "radii": [r, …]}, {…}]}`.
 
-use outlinefit::curve::wang_ball::{Disk, DiskWangBall};
 use crate::{Error, Result};
+use outlinefit::curve::wang_ball::{Disk, DiskWangBall};
 use outlinefit::Point;
 use serde::Deserialize;
 

@@ -209,7 +209,8 @@ fn exact_merge_of_a_split_curve_recovers_it() {
     );
     let (cl, cr) = c.split(s);
     let (rl, rr) = radii.split(s);
-    let join = |c: &outlinefit::curve::wang_ball::WangBall, r: &outlinefit::curve::wang_ball::WangBall| {
+    let join = |c: &outlinefit::curve::wang_ball::WangBall,
+                r: &outlinefit::curve::wang_ball::WangBall| {
         DiskWangBall::new(
             c.points
                 .iter()

@@ -7,13 +7,13 @@
 //! such as `"lamda"` is not silently ignored.
 
 use super::Reduction;
-use outlinefit::ParamCurve as _;
 use crate::reduce::sg_bezier::{SgBezier, SgShape};
 use crate::{Error, Result};
-use outlinefit::{Bounds, Point};
 use outlinefit::svg_writer::{
     decimals_for, number, points_attribute, Circle, Document, Polyline, Rectangle, Title,
 };
+use outlinefit::ParamCurve as _;
+use outlinefit::{Bounds, Point};
 use serde::Deserialize;
 use std::path::Path;
 

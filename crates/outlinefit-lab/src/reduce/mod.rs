@@ -71,13 +71,13 @@ pub mod sg_bezier;
 
 pub use file::{parse_curve_json, read_curve_json, reduction_svg};
 
-use outlinefit::curve::basis::binomial;
 use crate::reduce::sg_bezier::{sg_basis, sg_to_bernstein, SgBezier, SgShape};
 use crate::{Error, Result};
-use outlinefit::Point;
+use nalgebra::DMatrix;
+use outlinefit::curve::basis::binomial;
 use outlinefit::optim::{self, Problem, SeededRng};
 use outlinefit::quad::GaussLegendre;
-use nalgebra::DMatrix;
+use outlinefit::Point;
 use rand::SeedableRng;
 use serde::Serialize;
 

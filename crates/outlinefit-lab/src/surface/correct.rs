@@ -20,8 +20,8 @@
 use super::bezier::{axpy, dot, sub, BezierSurface, P3};
 use super::data::{Params, PointCloud};
 use super::solve::Fitter;
-use outlinefit::curve::basis::{bernstein, bernstein_jet};
 use nalgebra::{DMatrix, DVector};
+use outlinefit::curve::basis::{bernstein, bernstein_jet};
 
 /// Most alternation rounds.
 /// Most alternation rounds on a grid (the polish follows) and for unorganized points.

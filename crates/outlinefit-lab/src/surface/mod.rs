@@ -42,8 +42,8 @@ pub use bezier::{BezierSurface, P3};
 pub use data::{Params, PointCloud};
 pub use params::{classical, Rule};
 
-use outlinefit::optim::{CuckooSearch, Optimizer, Problem, SeededRng};
 use crate::Error;
+use outlinefit::optim::{CuckooSearch, Optimizer, Problem, SeededRng};
 use rand::SeedableRng;
 use serde::Serialize;
 use solve::Fitter;

@@ -16,8 +16,8 @@
 
 use super::bezier::{axpy, sub, BezierSurface, P3};
 use super::data::{Params, PointCloud};
-use outlinefit::curve::basis::bernstein;
 use nalgebra::{Cholesky, DMatrix, DMatrixView, Dyn};
+use outlinefit::curve::basis::bernstein;
 
 /// Smallest ratio of the smallest to the largest squared Cholesky pivot accepted before
 /// falling back to the pseudo-inverse.

@@ -43,7 +43,7 @@ use crate::geom::Point;
 use crate::linalg::cramer2;
 
 /// Subdivision depth after which [`approximate_with_cubics`] stops splitting.
-pub const MAX_DEPTH: u32 = 8;
+pub(crate) const MAX_DEPTH: u32 = 8;
 
 /// The fit uses the rational curve at u = k / FIT_INTERVALS, k = 1 … FIT_INTERVALS − 1 (the
 /// ends are interpolated exactly); the distance check adds the midpoints between them.
@@ -56,13 +56,13 @@ const CORRECTION_ROUNDS: usize = 2;
 const POLISH_ROUNDS: usize = 16;
 
 /// The approximation bound used when no fitting tolerance chooses one (px).
-pub const DEFAULT_DRAWING_BOUND: f64 = 0.02;
+pub(crate) const DEFAULT_DRAWING_BOUND: f64 = 0.02;
 
 /// The approximation bound matched to a fitting tolerance: the drawing may add at most a
 /// twentieth of it, `tolerance / 20` clamped to [0.005, 0.05] px (the default tolerance
 /// 0.3 gives 0.015). A non-positive or non-finite tolerance gives
 /// [`DEFAULT_DRAWING_BOUND`].
-pub fn drawing_bound(tolerance: f64) -> f64 {
+pub(crate) fn drawing_bound(tolerance: f64) -> f64 {
     if tolerance.is_finite() && tolerance > 0.0 {
         (tolerance / 20.0).clamp(0.005, 0.05)
     } else {
@@ -96,27 +96,6 @@ pub fn approximate_with_cubics(curve: &RationalCubic, bound: f64) -> Vec<CubicBe
     let mut out = Vec::new();
     approximate_into(curve, start, end, bound, 0, &mut out);
     out
-}
-
-/// The geometric distance between a rational cubic and a polynomial cubic, measured both
-/// ways: the larger of (max over samples of the rational curve of the distance to the
-/// cubic) and (max over samples of the cubic of the distance to the rational curve), with
-/// `samples − 1` evenly spaced interior samples per curve and global nearest-point searches.
-/// A measurement, not a rigorous bound; NaN if any coordinate is NaN.
-pub fn distance_between(curve: &RationalCubic, cubic: &CubicBez, samples: usize) -> f64 {
-    let samples = samples.max(2);
-    let mut worst: f64 = 0.0;
-    for j in 1..samples {
-        let u = j as f64 / samples as f64;
-        let d_to_cubic = cubic.nearest(curve.eval(u), 16).1;
-        let d_to_rational = curve.nearest(cubic.eval(u), 16).1;
-        // `max` would drop a NaN; keep it visible instead.
-        if d_to_cubic.is_nan() || d_to_rational.is_nan() {
-            return f64::NAN;
-        }
-        worst = worst.max(d_to_cubic).max(d_to_rational);
-    }
-    worst
 }
 
 fn approximate_into(
@@ -321,8 +300,9 @@ fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> Cub
     }
 }
 
-/// The two-way distance of [`distance_between`] at the fit samples and the midpoints
-/// between them, with each projection started from the known correspondence of the fit
+/// The distance between the rational curve and the cubic, measured both ways (the larger
+/// of the curve's distance to the cubic and the cubic's to the curve) at the fit samples
+/// and the midpoints between them, with each projection started from the known correspondence of the fit
 /// instead of a global scan. A projection that stalls in a local minimum can only report a
 /// larger distance, so the shortcut errs towards splitting.
 fn check_distance(curve: &RationalCubic, fit: &CubicFit) -> f64 {

@@ -14,5 +14,5 @@ pub mod wang_ball;
 pub use approx::approximate_with_cubics;
 pub use cubic::CubicBez;
 pub use param_curve::{bezier_derivative, check_param_curve, ParamCurve};
+pub(crate) use rational::bernstein;
 pub use rational::RationalCubic;
-pub(crate) use rational::{bernstein, rational_basis};

@@ -47,7 +47,11 @@ pub trait ParamCurve {
 
 /// [`ParamCurve::nearest`]'s default: a scan, then golden-section search in the bracket of
 /// the nearest sample.
-pub fn nearest_by_scan<C: ParamCurve + ?Sized>(curve: &C, q: Point, samples: usize) -> (f64, f64) {
+pub(crate) fn nearest_by_scan<C: ParamCurve + ?Sized>(
+    curve: &C,
+    q: Point,
+    samples: usize,
+) -> (f64, f64) {
     let (a, b) = curve.domain();
     let samples = samples.max(2);
     let at = |j: usize| a + (b - a) * (j as f64 / samples as f64);

@@ -6,14 +6,14 @@
 //! points onto it (nearest point by a global scan followed by Newton's method), and
 //! subdivides it. Written by hand: no maintained crate offers rational cubics.
 
-pub use super::power::CurveJet;
+pub(crate) use super::power::CurveJet;
 use super::power::{PowerCubic, EXACT_STEP};
 use crate::geom::Point;
 use serde::{Deserialize, Serialize};
 
 /// Cubic Bernstein basis values at `u`.
 #[inline]
-pub fn bernstein(u: f64) -> [f64; 4] {
+pub(crate) fn bernstein(u: f64) -> [f64; 4] {
     let v = 1.0 - u;
     [v * v * v, 3.0 * u * v * v, 3.0 * u * u * v, u * u * u]
 }
@@ -223,7 +223,7 @@ impl RationalCubic {
 
 /// Index of the first point of `scan` nearest to `q` (0 when no distance compares, as with
 /// non-finite points): where [`RationalCubic::nearest`] starts Newton's method.
-pub fn nearest_sample(scan: impl IntoIterator<Item = Point>, q: Point) -> usize {
+pub(crate) fn nearest_sample(scan: impl IntoIterator<Item = Point>, q: Point) -> usize {
     let mut best = (0, f64::INFINITY);
     for (j, p) in scan.into_iter().enumerate() {
         let d = (p - q).length_squared();
@@ -236,7 +236,7 @@ pub fn nearest_sample(scan: impl IntoIterator<Item = Point>, q: Point) -> usize 
 
 /// The rational basis for inner weights `w` at parameter `u`; it sums to 1.
 #[inline]
-pub fn rational_basis(w: [f64; 2], u: f64) -> [f64; 4] {
+pub(crate) fn rational_basis(w: [f64; 2], u: f64) -> [f64; 4] {
     let b = bernstein(u);
     let nb = [b[0], b[1] * w[0], b[2] * w[1], b[3]];
     let d = nb[0] + nb[1] + nb[2] + nb[3];

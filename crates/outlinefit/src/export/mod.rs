@@ -14,8 +14,8 @@
 //! formatted here); writing it to disk is [`crate::io::write_atomic`]'s job. The
 //! JSON and CSV reports, which keep the exact rational data, live elsewhere.
 
-pub mod overlay;
-pub mod svg;
+pub(crate) mod overlay;
+pub(crate) mod svg;
 
 pub use overlay::{to_overlay_svg, OverlayOptions};
 pub use svg::{to_svg, SvgOptions};

@@ -32,7 +32,7 @@ use crate::fit::FittedContour;
 use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::trace::TraceResult;
 
-pub use crate::svg_writer::MAX_PRECISION;
+pub(crate) use crate::svg_writer::MAX_PRECISION;
 use crate::svg_writer::{decimals_for, CompactPath, Document, Path};
 
 /// How [`to_svg`] writes the outline.

@@ -253,7 +253,7 @@ fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
 }
 
 /// Fits a closed chain of segments to a segmented contour.
-pub fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
+pub(crate) fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
     let points = &seg.points;
     let n = points.len();
     let joints: Vec<JointSpec> = seg

@@ -97,17 +97,17 @@ impl FromStr for BreakPlacement {
 
 /// The optimizer that places break points unless another is named: fireworks, as in the
 /// paper.
-pub const DEFAULT_OPTIMIZER: Algorithm = Algorithm::Fwa;
+pub(crate) const DEFAULT_OPTIMIZER: Algorithm = Algorithm::Fwa;
 
 /// Default objective evaluations per movable smooth joint. On the bundled samples the
 /// fireworks placement removes 18 % of the total error at 20, 27 % at 60, 38 % at 200,
 /// 56 % at 600 and 60 % at 2 000 evaluations; 600 gets most of it at about 0.5 s per
 /// sample image on one core.
-pub const DEFAULT_BUDGET: u64 = 600;
+pub(crate) const DEFAULT_BUDGET: u64 = 600;
 
 /// Fewest point-to-point steps between two joints a move may leave (so every segment
 /// keeps at least `MIN_GAP + 1` data points).
-pub const MIN_GAP: usize = 3;
+pub(crate) const MIN_GAP: usize = 3;
 
 /// Penalty per unit of constraint violation (see the module docs).
 const PENALTY: f64 = 1e6;
@@ -299,7 +299,7 @@ impl Problem for Stretch<'_> {
 /// Moves the smooth joints of an `lsq` chain to lower its total Eq. 4 error, keeping the
 /// corners, the segment count and exact G1 (see the module docs). The result is never
 /// worse than `base` on any stretch between corners. `contour_index` feeds the seeds.
-pub fn optimize_contour(
+pub(crate) fn optimize_contour(
     base: &FittedContour,
     opts: &PlacementOptions,
     contour_index: usize,
@@ -506,6 +506,9 @@ mod tests {
         assert_eq!(ia, ib);
         assert_eq!(a.sum_sq(), b.sum_sq());
         assert!("sideways".parse::<BreakPlacement>().is_err());
-        assert_eq!("optimize".parse::<BreakPlacement>().unwrap(), BreakPlacement::Optimize);
+        assert_eq!(
+            "optimize".parse::<BreakPlacement>().unwrap(),
+            BreakPlacement::Optimize
+        );
     }
 }

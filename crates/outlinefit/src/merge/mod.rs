@@ -464,4 +464,3 @@ fn validate(a: &DiskWangBall, b: &DiskWangBall, options: &MergeOptions) -> Resul
     }
     Ok(())
 }
-

@@ -44,14 +44,14 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 /// Lowest merged degree: a run needs free control points beyond its end tangents.
-pub const MIN_OUTLINE_DEGREE: usize = 3;
+pub(crate) const MIN_OUTLINE_DEGREE: usize = 3;
 
 /// Parameter-correction rounds per fit.
 const CORRECTIONS: usize = 12;
 
 /// Options of outline merging.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OutlineMergeOptions {
+pub(crate) struct OutlineMergeOptions {
     /// Degree of the merged center curves and radius functions. Default 5.
     pub degree: usize,
     /// Largest allowed distance (px) from a data point to the merged center curve.
@@ -165,7 +165,7 @@ pub(crate) fn drawing_pieces(
 
 /// Number of curves drawn for `contour` with its `merged` curves: segments not replaced
 /// by merged curves, plus the merged curves.
-pub fn curve_count(contour: &FittedContour, merged: &[MergedCurve]) -> usize {
+pub(crate) fn curve_count(contour: &FittedContour, merged: &[MergedCurve]) -> usize {
     let replaced: usize = merged.iter().map(|m| m.segment_count).sum();
     contour.segments.len() - replaced.min(contour.segments.len()) + merged.len()
 }
@@ -174,7 +174,10 @@ pub fn curve_count(contour: &FittedContour, merged: &[MergedCurve]) -> usize {
 /// the segment list). Contours with fewer than three segments are left alone, and so is
 /// every contour when the degree is outside `MIN_OUTLINE_DEGREE..=MAX_DEGREE` or the
 /// tolerance is not a positive number ([`crate::Config::validate`] reports those).
-pub fn merge_contour(contour: &FittedContour, options: &OutlineMergeOptions) -> Vec<MergedCurve> {
+pub(crate) fn merge_contour(
+    contour: &FittedContour,
+    options: &OutlineMergeOptions,
+) -> Vec<MergedCurve> {
     let n = contour.segments.len();
     let valid = (MIN_OUTLINE_DEGREE..=super::MAX_DEGREE).contains(&options.degree)
         && options.tolerance > 0.0

@@ -626,7 +626,7 @@ fn u16_value(v: u16) -> f32 {
 
 /// Fraction of an image's pixels that must be mostly transparent (alpha below one half)
 /// for its alpha channel to be traced as the shape ([`AlphaRule::Auto`]).
-pub const ALPHA_SHAPE_FRACTION: f64 = 0.10;
+pub(crate) const ALPHA_SHAPE_FRACTION: f64 = 0.10;
 
 /// Whether the shape is the alpha channel or the luminance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -4,9 +4,9 @@
 
 use crate::curve::RationalCubic;
 use crate::fit::lsq::joint_report;
+use crate::fit::solve::segment_error;
 use crate::fit::{FittedContour, FittedSegment};
 use crate::geom::Point;
-use crate::fit::solve::segment_error;
 use crate::optim::{Algorithm, Optimizer, Outcome, Problem, SeededRng};
 use rand::SeedableRng;
 use serde::Serialize;

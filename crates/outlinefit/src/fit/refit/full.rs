@@ -16,9 +16,9 @@
 //! the `lsq` fit found (see [`super`]).
 
 use super::common::{finish_segment, on_boundary, rebuild, run_optimizer, RefitOptions};
-use crate::fit::{FittedContour, FittedSegment};
 use crate::curve::rational::{bernstein, RationalCubic};
 use crate::fit::JointKind;
+use crate::fit::{FittedContour, FittedSegment};
 use crate::geom::{Bounds, Point};
 use crate::optim::{Optimizer, Problem};
 use crate::param::centripetal_parameters;

@@ -82,4 +82,3 @@ pub(crate) fn fit_weights(
         .collect();
     rebuild(base, segments)
 }
-
