@@ -7,9 +7,9 @@
 //! `cargo run --release --example compare_charts [-- OUTDIR]` (default: the system's
 //! temporary directory); prints the paths written.
 
-use outlinefit::fit::refit::Search;
 use outlinefit::optim::{Algorithm, DEFAULT_SEED};
 use outlinefit::Config;
+use outlinefit::Search;
 use outlinefit_lab::compare::{compare_image, output, CompareOptions, DEFAULT_HISTORY_POINTS};
 use std::path::{Path, PathBuf};
 

@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 
 /// Options of break detection.
 #[derive(Clone, Debug)]
-pub struct BreakOptions {
+pub(crate) struct BreakOptions {
     /// A turning angle above this (degrees) over the window makes a corner.
     pub corner_angle: f64,
     /// Arc-length half-window (px) of the turning-angle measure.
@@ -35,7 +35,7 @@ pub struct BreakOptions {
 impl BreakOptions {
     /// Options for an image of the given size: the window is 1/100 of the larger side,
     /// clamped to [2, 8] px (2 px on a 64 px glyph, 2.6 px at 256 px, 8 px from 800 px up).
-    pub fn for_image(corner_angle: f64, width: u32, height: u32) -> Self {
+    pub(crate) fn for_image(corner_angle: f64, width: u32, height: u32) -> Self {
         let side = width.max(height) as f64;
         BreakOptions {
             corner_angle,
@@ -48,7 +48,7 @@ impl BreakOptions {
 /// Why a break was placed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum BreakReason {
+pub(crate) enum BreakReason {
     /// A corner of the outline.
     Corner,
     /// A change of the sign of curvature.
@@ -76,7 +76,7 @@ pub enum JointKind {
 
 /// One break point of a contour.
 #[derive(Clone, Copy, Debug, Serialize)]
-pub struct Break {
+pub(crate) struct Break {
     /// Index of the break in the contour's point list.
     pub index: usize,
     /// Corner (G0) or smooth (G1) joint.
@@ -87,7 +87,7 @@ pub struct Break {
 
 /// A contour with its break points.
 #[derive(Clone, Debug)]
-pub struct SegmentedContour {
+pub(crate) struct SegmentedContour {
     /// Data points (the contour's, with sub-sample breaks inserted).
     pub points: Vec<Point>,
     /// True for the border of a hole.
@@ -233,7 +233,7 @@ fn max_off_line(
 /// sharpened: the rounded points of its core (within h/2 of arc length) are replaced by the
 /// intersection of the two side lines, which is where the true corner of an anti-aliased
 /// or smoothed outline lies.
-pub fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
+pub(crate) fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
     let n0 = contour.points.len();
     if n0 < 3 {
         return build_segmented(contour.points.clone(), contour, Vec::new());

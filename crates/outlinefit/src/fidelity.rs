@@ -86,10 +86,10 @@ pub struct Fidelity {
     /// Largest distance (px) from a boundary data point to the drawn outline.
     pub max_deviation: f64,
     /// The deviation the trace promises (px): the tolerance plus the SVG approximation
-    /// bound for `lsq`, [`SHAPE_LIMIT`] for metaheuristic fits.
+    /// bound for `lsq`, `SHAPE_LIMIT` for metaheuristic fits.
     pub deviation_limit: f64,
     /// Area (px², counted in pixels) of the largest region where the drawn shape and the
-    /// thresholded input disagree by more than [`SHAPE_LIMIT`] from the outline.
+    /// thresholded input disagree by more than `SHAPE_LIMIT` from the outline.
     pub largest_region: f64,
     /// Largest region area accepted: max(`--min-area`, 2) px².
     pub region_limit: f64,

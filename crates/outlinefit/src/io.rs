@@ -25,7 +25,7 @@ static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 static LIVE_TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 /// What every temporary file's name contains: `<name>` + `TEMP_MARK` + `<pid>-<n>`.
-pub const TEMP_MARK: &str = ".outlinefit-tmp-";
+pub(crate) const TEMP_MARK: &str = ".outlinefit-tmp-";
 
 /// Writes `bytes` to `path` atomically: to a temporary file `<name>.outlinefit-tmp-<pid>-<n>`
 /// in the same directory, then renamed over `path`, replacing an existing regular file
@@ -153,7 +153,7 @@ pub fn remove_live_temporaries() {
 }
 
 /// Removes the temporary files that an earlier run killed mid-write left in `dir` (names
-/// containing [`TEMP_MARK`] of a process that no longer runs; on systems without `/proc`,
+/// containing the temporary mark (`.outlinefit-tmp-`) of a process that no longer runs; on systems without `/proc`,
 /// of any other process). Returns how many were removed.
 pub fn remove_stale_temporaries(dir: &Path) -> usize {
     let Ok(entries) = fs::read_dir(dir) else {

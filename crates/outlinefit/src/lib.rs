@@ -4,25 +4,21 @@
 //! G1-continuous rational cubic Bézier segments and reports, segment by segment, how well
 //! each one fits its data.
 //!
-//! The pipeline is a chain of plain functions, one module per stage:
-//!
-//! ```text
-//! image ─► raster::load ─► contour::extract_contours ─► breaks::find_breaks ─► fit ─► export
-//!          Bitmap           Vec<Contour>                 Vec<SegmentedContour>   Vec<FittedContour>
-//! ```
-//!
-//! [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`]; the [`trace`]
-//! module owns them and is the one place that turns a `Config` into stage options.
+//! The pipeline is a chain of stages, one module each: the image becomes a [`Bitmap`];
+//! its contours are extracted with sub-pixel points; break points are found by curvature;
+//! each piece is fitted ([`fit`]); adjacent segments are optionally merged into disk
+//! Wang–Ball curves ([`merge`]); the drawn result is checked against the pixels and
+//! repaired where it lost or invented a part ([`Fidelity`]); [`to_svg`] and [`report`]
+//! write it. [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`].
 //!
 //! ## Tracing an image held in memory
 //!
-//! Any image the `image` crate holds becomes a [`Bitmap`] through [`raster::from_image`];
-//! [`export::svg::to_svg`] writes the result:
+//! Any image the `image` crate holds becomes a [`Bitmap`] through [`Bitmap::from_image`];
+//! [`to_svg`] writes the result. Every name used is at the crate root:
 //!
 //! ```
 //! use image::{DynamicImage, GrayImage, Luma};
-//! use outlinefit::{to_svg, SvgOptions};
-//! use outlinefit::{raster, trace_bitmap, Config};
+//! use outlinefit::{to_svg, trace_bitmap, Bitmap, Config, SvgOptions};
 //!
 //! // A black disk of radius 20 px on white paper.
 //! let disk = GrayImage::from_fn(64, 64, |x, y| {
@@ -30,7 +26,7 @@
 //!     Luma([if dx.hypot(dy) < 20.0 { 0 } else { 255 }])
 //! });
 //! let config = Config::default();
-//! let bitmap = raster::from_image(&DynamicImage::ImageLuma8(disk), &config.raster_options())?;
+//! let bitmap = Bitmap::from_image(&DynamicImage::ImageLuma8(disk), &config.raster_options())?;
 //! let traced = trace_bitmap(&bitmap, &config)?;
 //! let svg = to_svg(&traced, &SvgOptions::for_tolerance(config.tolerance));
 //!
@@ -41,13 +37,18 @@
 //! # Ok::<(), outlinefit::Error>(())
 //! ```
 //!
-//! ## Features
+//! ## Modules
 //!
-//! Without default features the crate is the tracer alone (every stage above, the SVG
-//! writer and the reports). `lab` adds `compare` (its charts in `compare::plot`) and
-//! `stats` (`plotters`); `papers` adds `bspline`, `reduce` and `surface` (and `lab`;
-//! `exmex`); `cli`, the default, builds the `outlinefit` program (`clap`, `indicatif`,
-//! `anyhow`, `ctrlc`) with both.
+//! The root holds what a tracing program needs. A few modules hold the rest: [`curve`]
+//! (the curve kernel: rational and polynomial cubics, Bernstein and Wang–Ball machinery),
+//! [`optim`] (the papers' metaheuristics behind one trait), [`fit`] (refitting a
+//! segmentation with them), [`merge`] (merging two disk Wang–Ball curves), [`report`]
+//! (JSON and CSV), [`io`] (atomic output files), [`svg_writer`] (the number and path
+//! formatting every picture shares) and [`quad`] (Gauss–Legendre quadrature).
+//!
+//! The crate has no command-line or plotting dependency: the `outlinefit` program is the
+//! `outlinefit-cli` crate, and the optimizer comparisons, B-splines, degree reduction and
+//! surface fitting of the papers are the `outlinefit-lab` crate.
 
 mod breaks;
 mod contour;
@@ -69,17 +70,13 @@ pub mod report;
 pub mod svg_writer;
 mod trace;
 
-pub use crate::breaks::{
-    find_breaks, Break, BreakOptions, BreakReason, JointKind, SegmentedContour,
-};
-pub use crate::contour::{extract_contours, Contour, ContourOptions};
+pub use crate::breaks::JointKind;
 pub use crate::curve::{CubicBez, ParamCurve, RationalCubic};
 pub use crate::error::{Error, ForegroundHint, Result};
 pub use crate::export::{to_overlay_svg, to_svg, OverlayOptions, SvgOptions};
 pub use crate::fidelity::Fidelity;
 pub use crate::fit::placement::BreakPlacement;
-pub use crate::fit::refit::Search;
-pub use crate::fit::{FittedContour, FittedSegment, Joint, Method, SegmentError};
+pub use crate::fit::{FittedContour, FittedSegment, Joint, Method, Search, SegmentError};
 pub use crate::geom::{Bounds, Point};
 pub use crate::raster::{AlphaRule, Bitmap, RasterOptions, ThresholdScale};
 pub use crate::trace::{trace_bitmap, trace_file, Config, ImageInfo, TraceResult};

@@ -71,7 +71,7 @@ fn legendre_rule(n: usize) -> (Vec<f64>, Vec<f64>) {
 
 /// `∫_a^b f` to about 1e-14 relative to `max(|∫f|, scale)`, by recursive bisection of a
 /// 16-point rule.
-pub fn adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, scale: f64) -> f64 {
+pub(crate) fn adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, scale: f64) -> f64 {
     let rule = GaussLegendre::new(16);
     let whole = rule.integrate(f, a, b);
     let tol = 1e-14 * whole.abs().max(scale).max(f64::MIN_POSITIVE);

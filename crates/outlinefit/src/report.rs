@@ -16,7 +16,7 @@ use serde::Serialize;
 
 /// Totals over one traced image.
 #[derive(Clone, Debug, Serialize)]
-pub struct Summary {
+pub(crate) struct Summary {
     /// Number of contours.
     pub contours: usize,
     /// Number of segments.
@@ -44,7 +44,7 @@ pub struct Summary {
 
 impl Summary {
     /// Totals of a trace.
-    pub fn of(result: &TraceResult) -> Summary {
+    pub(crate) fn of(result: &TraceResult) -> Summary {
         let mut s = Summary {
             contours: result.contours.len(),
             segments: result.segment_count(),

@@ -7,7 +7,7 @@
 //! crate's path numbers are `f32` (about 7 significant digits: too coarse for a large image
 //! at the precision a small tolerance needs) and because the outline wants a compact,
 //! drift-free relative syntax. One number format serves every picture: fixed decimals,
-//! trailing zeros trimmed, never `-0` ([`push_number`]), so equal inputs give equal bytes.
+//! trailing zeros trimmed, never `-0` (`push_number`), so equal inputs give equal bytes.
 //!
 //! As the [`svg`] crate writes them, attributes come in alphabetical order, each child
 //! element on its own line, and the document ends with a newline.
@@ -16,11 +16,10 @@ use crate::geom::Point;
 use std::fmt;
 use svg::node::element::{Element, SVG};
 use svg::node::Value;
-pub use svg::Node;
+use svg::Node as _;
 
-pub use svg::node::element::{Circle, Group, Image, Path, Rectangle};
-pub use svg::node::element::{Line, Polyline, Title};
-pub use svg::node::Comment;
+pub(crate) use svg::node::element::{Circle, Group, Image, Path, Rectangle};
+pub(crate) use svg::node::Comment;
 
 /// Largest number of decimals written; more would only print floating-point noise.
 pub const MAX_PRECISION: usize = 12;
@@ -63,7 +62,7 @@ impl Document {
     }
 
     /// Appends an XML comment (see [`comment`]).
-    pub fn comment(&mut self, text: &str) {
+    pub(crate) fn comment(&mut self, text: &str) {
         self.add(comment(text));
     }
 
@@ -115,7 +114,7 @@ impl svg::node::NodeDefaultHash for Text {
 }
 
 /// An XML comment with `text`, made safe (no `--` inside).
-pub fn comment(text: &str) -> Comment {
+pub(crate) fn comment(text: &str) -> Comment {
     Comment::new(text.replace("--", "- -"))
 }
 
@@ -128,7 +127,7 @@ pub fn decimals_for(unit: f64) -> usize {
         .unwrap_or(MAX_PRECISION)
 }
 
-/// `x` with [`push_number`]'s format.
+/// `x` with `push_number`'s format.
 pub fn number(x: f64, precision: usize) -> String {
     let mut s = String::new();
     push_number(&mut s, x, precision);
@@ -139,7 +138,7 @@ pub fn number(x: f64, precision: usize) -> String {
 /// zeros and a trailing point trimmed and `-0` written as `0`: `12.5`, `3`, `-0.001`.
 /// Non-finite values, which callers filter out beforehand, are written as `0` so that the
 /// document stays valid.
-pub fn push_number(out: &mut String, x: f64, precision: usize) {
+pub(crate) fn push_number(out: &mut String, x: f64, precision: usize) {
     if !x.is_finite() {
         out.push('0');
         return;
@@ -154,7 +153,7 @@ pub fn push_number(out: &mut String, x: f64, precision: usize) {
 }
 
 /// `x y` with [`push_number`].
-pub fn push_point(out: &mut String, p: Point, precision: usize) {
+pub(crate) fn push_point(out: &mut String, p: Point, precision: usize) {
     push_number(out, p.x, precision);
     out.push(' ');
     push_number(out, p.y, precision);
@@ -253,7 +252,7 @@ impl PathData {
 /// relative, a command letter is not repeated for consecutive commands of the same kind,
 /// a number's leading `0` is dropped (`.5`), and no separator is written before a minus
 /// sign or before a `.` that follows a number with a `.`.
-pub struct CompactPath {
+pub(crate) struct CompactPath {
     out: String,
     /// Grid units per user unit: 10^precision.
     scale: f64,
@@ -274,7 +273,7 @@ enum Last {
 
 impl CompactPath {
     /// Empty path data on the grid of `precision` decimals (at most [`MAX_PRECISION`]).
-    pub fn new(precision: usize) -> CompactPath {
+    pub(crate) fn new(precision: usize) -> CompactPath {
         let precision = precision.min(MAX_PRECISION);
         let scale = 10f64.powi(precision as i32);
         CompactPath {
@@ -287,12 +286,12 @@ impl CompactPath {
     }
 
     /// Half a grid unit, in user units: the most rounding moves a coordinate.
-    pub fn half_unit(&self) -> f64 {
+    pub(crate) fn half_unit(&self) -> f64 {
         0.5 / self.scale
     }
 
     /// `p` in grid units.
-    pub fn grid(&self, p: Point) -> (i128, i128) {
+    pub(crate) fn grid(&self, p: Point) -> (i128, i128) {
         (
             (p.x * self.scale).round() as i128,
             (p.y * self.scale).round() as i128,
@@ -300,7 +299,7 @@ impl CompactPath {
     }
 
     /// Writes `letter` unless it repeats the last command (SVG repeats it implicitly).
-    pub fn command(&mut self, letter: char) {
+    pub(crate) fn command(&mut self, letter: char) {
         if letter != self.last_command {
             self.out.push(letter);
             self.last_command = letter;
@@ -309,7 +308,7 @@ impl CompactPath {
     }
 
     /// A relative line from `from` to `to` (grid units): `h` or `v` when axis-parallel.
-    pub fn line(&mut self, from: (i128, i128), to: (i128, i128)) {
+    pub(crate) fn line(&mut self, from: (i128, i128), to: (i128, i128)) {
         let (dx, dy) = (to.0 - from.0, to.1 - from.1);
         if dy == 0 {
             self.command('h');
@@ -325,7 +324,7 @@ impl CompactPath {
     }
 
     /// Writes `units` grid units as a decimal number.
-    pub fn number(&mut self, units: i128) {
+    pub(crate) fn number(&mut self, units: i128) {
         let p = self.precision;
         let digits = format!("{:0width$}", units.unsigned_abs(), width = p + 1);
         let (int, frac) = digits.split_at(digits.len() - p);
@@ -361,7 +360,7 @@ impl CompactPath {
     }
 
     /// The `d` attribute.
-    pub fn finish(self) -> String {
+    pub(crate) fn finish(self) -> String {
         self.out
     }
 }

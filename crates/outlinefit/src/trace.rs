@@ -66,22 +66,22 @@ pub struct Config {
     /// Default: true.
     pub timings: bool,
     /// After fitting, merge runs of smooth segments into disk Wang–Ball curves within
-    /// `tolerance` ([`merge::outline`]). Default: false.
+    /// `tolerance` (`merge::outline`). Default: false.
     pub merge: bool,
     /// Degree of merged curves, 3 to [`merge::MAX_DEGREE`]. Default: 5.
     pub merge_degree: usize,
     /// Where smooth break points go: `curvature` (default) or `optimize`, which keeps the
     /// corners and the segment count of the `lsq` chain and moves its smooth joints to
-    /// lower the total Eq. 4 error ([`fit::placement`]).
+    /// lower the total Eq. 4 error (`fit::placement`).
     pub breaks: BreakPlacement,
     /// The metaheuristic that places break points with `breaks = optimize`. Default:
     /// [`optim::Algorithm::Fwa`] (fireworks), as in the paper.
     pub break_optimizer: optim::Algorithm,
     /// Objective evaluations per movable smooth joint for `breaks = optimize`. Default:
-    /// [`fit::placement::DEFAULT_BUDGET`].
+    /// `fit::placement::DEFAULT_BUDGET`.
     pub break_budget: u64,
     /// Check the drawn outline against the input and repair what it lost or invented
-    /// ([`fidelity`]). Default: true.
+    /// (`fidelity`). Default: true.
     pub check: bool,
 }
 
@@ -321,7 +321,7 @@ const PARALLEL_FIT_POINTS: usize = 4000;
 /// Traces an already loaded bitmap.
 ///
 /// With `config.check` (the default) the drawn outline is checked against the thresholded
-/// input and repaired where it lost or invented a part ([`fidelity`]); the verdict is in
+/// input and repaired where it lost or invented a part (`fidelity`); the verdict is in
 /// [`TraceResult::fidelity`].
 pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     config.validate()?;
@@ -357,7 +357,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         }
         match &meta_options {
             None => Ok(chain),
-            Some(opts) => Ok(fit::refit::fit_contour(&chain, opts, i)),
+            Some(opts) => Ok(fit::refit::refit_contour(&chain, opts, i)),
         }
     };
     // Merged curves come beside their contour (a repaired contour is drawn by its own

@@ -3,8 +3,8 @@
 
 use outlinefit::optim::Algorithm;
 use outlinefit::Bitmap;
-use outlinefit::{extract_contours, trace_bitmap, Config, ContourOptions, Method, TraceResult};
 use outlinefit::{to_svg, SvgOptions};
+use outlinefit::{trace_bitmap, Config, Method, TraceResult};
 
 /// A 480 × 360 page of 12 × 9 anti-aliased rings and disks (4 × 4 supersampled), radii
 /// 9 to 15 px: about a hundred contours of similar size.
@@ -60,7 +60,11 @@ fn on_threads(threads: usize, bitmap: &Bitmap, config: &Config) -> TraceResult {
 fn many_contours_give_the_same_result_on_one_and_three_threads() {
     let bitmap = page();
     // Enough work outside the largest contour for the parallel path.
-    let contours = extract_contours(&bitmap, &ContourOptions { min_area: 2.0 }).unwrap();
+    let lsq = Config {
+        timings: false,
+        ..Config::default()
+    };
+    let contours = trace_bitmap(&bitmap, &lsq).unwrap().contours;
     let sizes: Vec<usize> = contours.iter().map(|c| c.points.len()).collect();
     let beside_largest = sizes.iter().sum::<usize>() - sizes.iter().max().unwrap();
     assert!(contours.len() >= 140 && beside_largest >= 6000, "{sizes:?}");

@@ -3,8 +3,7 @@
 
 mod common;
 
-use outlinefit::fit::refit::fit_contour;
-use outlinefit::fit::refit::{reference_errors, RefitOptions};
+use outlinefit::fit::{reference_errors, refit_contour, RefitOptions};
 use outlinefit::optim::Algorithm;
 use outlinefit::{to_svg, SvgOptions};
 use outlinefit::{trace_file, BreakPlacement, Config, JointKind, Method, Search};
@@ -126,7 +125,7 @@ fn hs_weights_search_reaches_the_least_squares_optimum_on_every_segment() {
         let base = trace_file(&path, &config).unwrap();
         for (i, c) in base.contours.iter().enumerate() {
             let reference = reference_errors(c);
-            let fitted = fit_contour(c, &opts, i);
+            let fitted = refit_contour(c, &opts, i);
             for (k, (s, &best)) in fitted.segments.iter().zip(&reference).enumerate() {
                 let e = s.error.sum_sq;
                 if e > best * 1.001 + 1e-5 {

@@ -6,10 +6,9 @@
 
 use super::expr::ParametricCurve;
 use super::Conversion;
-use outlinefit::svg_writer::{
-    number, points_attribute, Circle, Document, Group, Line, Polyline, Rectangle, Text,
-};
+use outlinefit::svg_writer::{number, points_attribute, Document, Text};
 use outlinefit::{Bounds, Point};
+use svg::node::element::{Circle, Group, Line, Polyline, Rectangle};
 
 /// Points of the polylines that draw the curve and the spline.
 const POLYLINE_POINTS: usize = 1000;
@@ -133,7 +132,7 @@ pub fn picture(curve: &ParametricCurve, conversion: &Conversion) -> String {
             .set("x2", 30)
             .set("y2", 0)
     };
-    let rows: [(Option<Box<dyn outlinefit::svg_writer::Node>>, String); 5] = [
+    let rows: [(Option<Box<dyn svg::Node>>, String); 5] = [
         (
             Some(Box::new(
                 curve_line()

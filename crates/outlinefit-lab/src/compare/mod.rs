@@ -15,9 +15,8 @@ pub mod plot;
 
 use crate::stats::{self, Anova, Describe, FTest, Normality, TTest};
 use crate::{Error, Result};
-use outlinefit::fit::refit::fit_contour;
-use outlinefit::fit::refit::{reference_errors, RefitOptions, Search};
 use outlinefit::fit::Method;
+use outlinefit::fit::{reference_errors, refit_contour, RefitOptions, Search};
 use outlinefit::optim::Algorithm;
 use outlinefit::{trace_file, Config};
 use rayon::prelude::*;
@@ -237,7 +236,7 @@ pub struct ImageStats {
 /// The seed of run `run`: a SplitMix64 step from the base seed, so runs are independent
 /// streams and run r is the same whatever else is compared.
 pub fn run_seed(seed: u64, run: usize) -> u64 {
-    outlinefit::fit::refit::segment_seed(seed ^ 0xC0FF_EE00_D15E_A5E5, usize::MAX, run)
+    outlinefit::fit::segment_seed(seed ^ 0xC0FF_EE00_D15E_A5E5, usize::MAX, run)
 }
 
 /// Evaluation counts at which histories are sampled: `points` values from 1 to `budget`,
@@ -301,7 +300,7 @@ pub fn compare_image(
                 history: vec![0.0; history_at.len()],
             };
             for (ci, c) in base.contours.iter().enumerate() {
-                let fitted = fit_contour(c, &meta, ci);
+                let fitted = refit_contour(c, &meta, ci);
                 for s in &fitted.segments {
                     run.segments.push(s.error.sum_sq);
                     run.total += s.error.sum_sq;

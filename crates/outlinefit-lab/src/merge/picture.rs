@@ -3,11 +3,12 @@
 //! envelope has no point, so the band polygon skips those samples (the control disks are
 //! drawn as dashed circles beside it).
 
-pub use outlinefit::curve::wang_ball::envelope::{envelope, envelope_band, envelope_points};
 use outlinefit::curve::wang_ball::DiskWangBall;
-use outlinefit::svg_writer::{Circle, Document, Group, Path, PathData, Rectangle, Text};
+pub use outlinefit::curve::wang_ball::{envelope, envelope_band, envelope_points};
+use outlinefit::svg_writer::{Document, PathData, Text};
 use outlinefit::ParamCurve as _;
 use outlinefit::{Bounds, Point};
+use svg::node::element::{Circle, Group, Path, Rectangle};
 
 /// Samples per curve for center lines and envelopes.
 const SAMPLES: usize = 200;

@@ -9,13 +9,12 @@
 use super::Reduction;
 use crate::reduce::sg_bezier::{SgBezier, SgShape};
 use crate::{Error, Result};
-use outlinefit::svg_writer::{
-    decimals_for, number, points_attribute, Circle, Document, Polyline, Rectangle, Title,
-};
+use outlinefit::svg_writer::{decimals_for, number, points_attribute, Document};
 use outlinefit::ParamCurve as _;
 use outlinefit::{Bounds, Point};
 use serde::Deserialize;
 use std::path::Path;
+use svg::node::element::{Circle, Polyline, Rectangle, Title};
 
 /// The JSON layout of a curve file.
 #[derive(Deserialize)]

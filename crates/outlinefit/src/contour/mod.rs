@@ -123,7 +123,7 @@ use workspace::Workspace;
 
 /// Options of boundary extraction.
 #[derive(Clone, Debug)]
-pub struct ContourOptions {
+pub(crate) struct ContourOptions {
     /// Contours enclosing a smaller area (px², after refinement) are dropped as specks,
     /// together with every contour nested inside them. Must be finite and ≥ 0.
     /// Default (in [`crate::Config`]): 2.0.
@@ -132,7 +132,7 @@ pub struct ContourOptions {
 
 /// One closed boundary of a shape, as sub-pixel points in image pixel units.
 #[derive(Clone, Debug, Serialize)]
-pub struct Contour {
+pub(crate) struct Contour {
     /// Boundary points in order, closed implicitly (the last connects to the first; the
     /// first point is not repeated). Outer borders run so that `geom::signed_area` is
     /// positive (clockwise on screen), holes so that it is negative.
@@ -152,8 +152,10 @@ pub struct Contour {
 ///
 /// Errors: [`Error::InvalidOption`] when `min_area` is negative or not finite, or when the
 /// bitmap's public `width`/`height` were changed so that they no longer match its
-/// coverage, or exceed 2³¹ − 4.
-pub fn extract_contours(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Vec<Contour>> {
+/// coverage, or exceed 2³¹ − 4. (The trace uses [`extract_with`], which keeps the borders
+/// for the repair stage; this is the contours alone, for the tests.)
+#[cfg(test)]
+pub(crate) fn extract_contours(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Vec<Contour>> {
     Ok(extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)?.contours)
 }
 

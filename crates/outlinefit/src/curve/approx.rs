@@ -80,7 +80,7 @@ pub(crate) fn drawing_bound(tolerance: f64) -> f64 {
 ///
 /// Not guaranteed: the distance is measured at samples (see the module docs), so it is a
 /// close estimate rather than a proof; it is within `bound` unless subdivision reached
-/// [`MAX_DEPTH`]. A NaN bound or non-finite coordinates never subdivide; a bound ≤ 0
+/// `MAX_DEPTH`. A NaN bound or non-finite coordinates never subdivide; a bound ≤ 0
 /// subdivides to the cap.
 ///
 /// Degenerate tangents (C1 = C0 or C2 = C3) fall back to the next control point, then the

@@ -1,6 +1,6 @@
 //! Bernstein polynomials of any degree, binomial coefficients and de Casteljau's
 //! algorithm: the basis every Bézier-type curve and surface of the crate builds on (the
-//! rational cubic keeps its own fixed-size degree-3 basis, [`super::bernstein`]).
+//! rational cubic keeps its own fixed-size degree-3 basis, `super::bernstein`).
 
 use crate::geom::Point;
 
@@ -20,7 +20,7 @@ pub fn binomial(n: usize, k: usize) -> f64 {
 }
 
 /// Exact binomial coefficient C(n, k) (`None` on overflow); 0 for k > n.
-pub fn binomial_exact(n: usize, k: usize) -> Option<i128> {
+pub(crate) fn binomial_exact(n: usize, k: usize) -> Option<i128> {
     if k > n {
         return Some(0);
     }
@@ -80,7 +80,7 @@ pub fn bernstein_jet(n: usize, t: f64, b: &mut [f64], d1: &mut [f64], d2: &mut [
 
 /// The point at `t` of the Bézier curve with control points `points` (the origin for
 /// none), by de Casteljau's algorithm: on the stack up to degree 23.
-pub fn de_casteljau(points: &[Point], t: f64) -> Point {
+pub(crate) fn de_casteljau(points: &[Point], t: f64) -> Point {
     match points.len() {
         0 => Point::ZERO,
         1 => points[0],
@@ -125,7 +125,7 @@ pub fn elevate(points: &[Point]) -> Vec<Point> {
 }
 
 /// Splits Bézier control points at `t` by de Casteljau's algorithm.
-pub fn de_casteljau_split(points: &[Point], t: f64) -> (Vec<Point>, Vec<Point>) {
+pub(crate) fn de_casteljau_split(points: &[Point], t: f64) -> (Vec<Point>, Vec<Point>) {
     let n = points.len();
     let mut work = points.to_vec();
     let mut left = Vec::with_capacity(n);

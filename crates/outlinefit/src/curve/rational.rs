@@ -183,7 +183,7 @@ impl RationalCubic {
     }
 
     /// The curve at `samples + 1` evenly spaced parameters (at least 3), for
-    /// [`nearest_sample`]: many points projected onto one curve share it.
+    /// `nearest_sample`: many points projected onto one curve share it.
     pub fn scan(&self, samples: usize) -> Vec<Point> {
         let samples = samples.max(2);
         (0..=samples)

@@ -64,7 +64,7 @@ const DEFAULT_BOUND: f64 = DEFAULT_DRAWING_BOUND;
 
 impl SvgOptions {
     /// Options matched to a fitting tolerance: the approximation bound of
-    /// [`drawing_bound`] (a twentieth of the tolerance, clamped to [0.005, 0.05] px), and
+    /// `drawing_bound` (a twentieth of the tolerance, clamped to [0.005, 0.05] px), and
     /// coordinates with the fewest decimals whose rounding stays within half the bound (2
     /// for tolerances from 0.2 px, 3 below). A non-positive or non-finite tolerance gives
     /// the defaults.

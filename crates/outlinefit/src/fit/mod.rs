@@ -1,20 +1,22 @@
 //! Fitting: one G1-continuous chain of rational cubic segments per contour.
 //!
-//! Two strategies share the data types here: [`lsq`] (the default; separable least
-//! squares with exact G1 at every smooth joint and error-driven splitting) and [`refit`]
+//! Two strategies share the data types here: `lsq` (the default; separable least
+//! squares with exact G1 at every smooth joint and error-driven splitting) and `refit`
 //! (an `lsq` segmentation refitted by a metaheuristic, in the HS paper's search space
 //! of §6 or the separable one). `placement` moves the smooth
 //! joints of an `lsq` chain to lower its total error (`--breaks optimize`).
 
 pub(crate) mod lsq;
 pub(crate) mod placement;
-pub mod refit;
+pub(crate) mod refit;
 // Internal: public (and hidden from the docs) only so that the no-allocation test and the
 // objective benchmark can drive the solver directly.
 #[doc(hidden)]
 pub mod solve;
 
-pub use crate::breaks::JointKind;
+pub(crate) use crate::breaks::JointKind;
+pub use refit::{reference_errors, refit_contour, segment_seed, RefitOptions, Search};
+
 use crate::curve::RationalCubic;
 use crate::error::{Error, Result};
 use crate::geom::{cyclic_run, Point};
@@ -25,11 +27,11 @@ use std::str::FromStr;
 /// How segments are fitted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Method {
-    /// Separable least squares with error-driven splitting ([`lsq`]; the default).
+    /// Separable least squares with error-driven splitting (`lsq`; the default).
     #[default]
     Lsq,
     /// The `lsq` segmentation refitted by a metaheuristic at fixed centripetal parameters
-    /// ([`refit::fit_contour`]).
+    /// ([`refit_contour`]).
     Metaheuristic(Algorithm),
 }
 
@@ -146,21 +148,25 @@ pub struct FittedSegment {
     /// The polynomial cubics the SVG draws for `curve`, when the fit already made them
     /// (see [`FittedSegment::drawn_cubics`]).
     #[serde(skip)]
-    pub drawn: DrawnCubics,
+    pub(crate) drawn: DrawnCubics,
 }
 
 /// Polynomial cubics approximating a rational segment within a bound, kept from the fit
 /// (which needs them to count SVG pieces) so that the fidelity check and the SVG writer do
 /// not compute them again. They stay tied to the curve and bound they were made for.
 #[derive(Clone, Debug, Default)]
-pub struct DrawnCubics {
+pub(crate) struct DrawnCubics {
     made_for: Option<(RationalCubic, f64)>,
     cubics: Vec<crate::curve::CubicBez>,
 }
 
 impl DrawnCubics {
     /// `cubics`, the approximation of `curve` within `bound`.
-    pub fn new(curve: RationalCubic, bound: f64, cubics: Vec<crate::curve::CubicBez>) -> Self {
+    pub(crate) fn new(
+        curve: RationalCubic,
+        bound: f64,
+        cubics: Vec<crate::curve::CubicBez>,
+    ) -> Self {
         DrawnCubics {
             made_for: Some((curve, bound)),
             cubics,
@@ -190,7 +196,7 @@ pub struct FittedContour {
     pub points: Vec<Point>,
     /// True for the border of a hole.
     pub is_hole: bool,
-    /// Index of the enclosing contour, as in [`crate::contour::Contour::parent`].
+    /// Index of the enclosing contour, as in `crate::contour::Contour::parent`.
     pub parent: Option<usize>,
     /// Segments in order; segment i runs from joint i to joint i + 1 (cyclically).
     pub segments: Vec<FittedSegment>,

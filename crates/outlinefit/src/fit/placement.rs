@@ -66,7 +66,7 @@ pub enum BreakPlacement {
     #[default]
     Curvature,
     /// Curvature corners kept; smooth joints moved by a metaheuristic to lower the total
-    /// Eq. 4 error at the same segment count ([`optimize_contour`]).
+    /// Eq. 4 error at the same segment count (`optimize_contour`).
     Optimize,
 }
 

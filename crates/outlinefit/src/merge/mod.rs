@@ -28,7 +28,7 @@
 //!   `[min_radius, min_radius + box_scale · 2 · max input radius]`; `exact`'s minimum lies
 //!   in it on the paper's examples (checked by the tests), so a metaheuristic can reach it.
 //!
-//! [`outline`] applies merging to traced outlines (`trace --merge`).
+//! `outline` applies merging to traced outlines (`trace --merge`).
 
 mod bounded;
 pub(crate) mod outline;

@@ -36,10 +36,7 @@ pub use hs::HarmonySearch;
 pub use pso::ParticleSwarm;
 pub use so::SnakeOptimizer;
 
-pub use problem::{
-    clamp_to, random_point, standard_normal, uniform, Optimizer, Outcome, Problem, SeededRng,
-    Tracker,
-};
+pub use problem::{standard_normal, uniform, Optimizer, Outcome, Problem, SeededRng, Tracker};
 
 /// The seed every command and options type starts from unless told otherwise (the same
 /// seed gives the same output on any number of threads).

@@ -172,14 +172,14 @@ pub fn uniform(rng: &mut SeededRng, (lo, hi): (f64, f64)) -> f64 {
 }
 
 /// Fills `x` with a uniform random point of the box.
-pub fn random_point(rng: &mut SeededRng, bounds: &[(f64, f64)], x: &mut [f64]) {
+pub(super) fn random_point(rng: &mut SeededRng, bounds: &[(f64, f64)], x: &mut [f64]) {
     for (v, &b) in x.iter_mut().zip(bounds) {
         *v = uniform(rng, b);
     }
 }
 
 /// Clamps every coordinate of `x` into its bounds (NaN goes to the lower bound).
-pub fn clamp_to(bounds: &[(f64, f64)], x: &mut [f64]) {
+pub(super) fn clamp_to(bounds: &[(f64, f64)], x: &mut [f64]) {
     for (v, &(lo, hi)) in x.iter_mut().zip(bounds) {
         *v = if v.is_nan() { lo } else { v.clamp(lo, hi) };
     }

@@ -146,7 +146,7 @@ impl ThresholdScale {
 
 /// Foreground coverage of an image, with the threshold and the facts detected about it.
 ///
-/// Construct it with [`load`], [`from_image`] or [`Bitmap::from_coverage`].
+/// Construct it with `load`, `from_image` or [`Bitmap::from_coverage`].
 #[derive(Clone, Debug)]
 pub struct Bitmap {
     /// Width in pixels.
@@ -632,7 +632,7 @@ pub(crate) const ALPHA_SHAPE_FRACTION: f64 = 0.10;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum AlphaRule {
-    /// The alpha channel when at least [`ALPHA_SHAPE_FRACTION`] of the pixels are mostly
+    /// The alpha channel when at least `ALPHA_SHAPE_FRACTION` of the pixels are mostly
     /// transparent (a logo or silhouette on a transparent background), otherwise the
     /// luminance composited over white (an opaque picture with a few transparent pixels,
     /// an icon with rounded transparent corners).

@@ -40,7 +40,7 @@ fn pw(t: f64, e: i32) -> f64 {
 ///
 /// # Panics
 /// If `n == 0` or `out.len() != n + 1`.
-pub fn wang_ball_basis(n: usize, t: f64, out: &mut [f64]) {
+pub(crate) fn wang_ball_basis(n: usize, t: f64, out: &mut [f64]) {
     assert!(n >= 1, "Wang–Ball degree must be at least 1");
     assert_eq!(out.len(), n + 1, "output length must be n + 1");
     for (i, o) in out.iter_mut().enumerate() {
@@ -54,7 +54,7 @@ pub fn wang_ball_basis(n: usize, t: f64, out: &mut [f64]) {
 ///
 /// # Panics
 /// If `n == 0` or `out.len() != n + 1`.
-pub fn wang_ball_basis_derivative(n: usize, t: f64, out: &mut [f64]) {
+pub(super) fn wang_ball_basis_derivative(n: usize, t: f64, out: &mut [f64]) {
     assert!(n >= 1, "Wang–Ball degree must be at least 1");
     assert_eq!(out.len(), n + 1, "output length must be n + 1");
     for (i, o) in out.iter_mut().enumerate() {

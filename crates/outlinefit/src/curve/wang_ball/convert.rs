@@ -185,7 +185,7 @@ fn to_f64_matrix(m: &[Vec<Ratio>]) -> Vec<Vec<f64>> {
 ///
 /// # Panics
 /// If `n == 0` or the exact computation overflows (far beyond any usable degree).
-pub fn wang_ball_to_bernstein(n: usize) -> Vec<Vec<f64>> {
+pub(super) fn wang_ball_to_bernstein(n: usize) -> Vec<Vec<f64>> {
     assert!(n >= 1, "Wang–Ball degree must be at least 1");
     let exact = wang_ball_to_bernstein_exact(n).expect("degree too large for exact conversion");
     to_f64_matrix(&exact)
@@ -202,7 +202,7 @@ pub fn wang_ball_to_bernstein(n: usize) -> Vec<Vec<f64>> {
 ///
 /// # Panics
 /// If `n == 0`.
-pub fn bernstein_to_wang_ball(n: usize) -> Vec<Vec<f64>> {
+pub(super) fn bernstein_to_wang_ball(n: usize) -> Vec<Vec<f64>> {
     assert!(n >= 1, "Wang–Ball degree must be at least 1");
     match wang_ball_to_bernstein_exact(n).and_then(|m| invert_exact(&m)) {
         Some(inv) => to_f64_matrix(&inv),
@@ -227,14 +227,14 @@ where
 
 /// Converts Wang–Ball control points (degree = `points.len() − 1 ≥ 1`) to the Bézier control
 /// points of the same curve.
-pub fn wang_ball_points_to_bezier(points: &[Point]) -> Vec<Point> {
+pub(crate) fn wang_ball_points_to_bezier(points: &[Point]) -> Vec<Point> {
     assert!(points.len() >= 2, "need at least two control points");
     apply(&wang_ball_to_bernstein(points.len() - 1), points)
 }
 
 /// Converts Bézier control points (degree = `points.len() − 1 ≥ 1`) to the Wang–Ball control
 /// points of the same curve.
-pub fn bezier_points_to_wang_ball(points: &[Point]) -> Vec<Point> {
+pub(crate) fn bezier_points_to_wang_ball(points: &[Point]) -> Vec<Point> {
     assert!(points.len() >= 2, "need at least two control points");
     apply(&bernstein_to_wang_ball(points.len() - 1), points)
 }

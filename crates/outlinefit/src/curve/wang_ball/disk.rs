@@ -172,7 +172,7 @@ impl DiskWangBall {
 /// The subdivision parameter of §2.2.2 for merging the adjacent DWB curves `a` (left) and
 /// `b` (right): `λ = ∫₀¹|C'_a| / (∫₀¹|C'_a| + ∫₀¹|C'_b|)`, the share of the left center
 /// curve in the total arc length. Returns 0.5 if both center curves have zero length.
-pub fn merge_lambda(a: &DiskWangBall, b: &DiskWangBall) -> f64 {
+pub(crate) fn merge_lambda(a: &DiskWangBall, b: &DiskWangBall) -> f64 {
     let la = a.center_arc_length();
     let lb = b.center_arc_length();
     let total = la + lb;

@@ -15,7 +15,7 @@
 //! restored here, which makes the basis a partition of unity for every n (a test checks
 //! it). Like the Bernstein basis, the Wang–Ball basis spans the
 //! polynomials of degree ≤ n, so every Wang–Ball curve is a Bézier curve of the same degree
-//! and vice versa ([`wang_ball_to_bernstein`], [`bernstein_to_wang_ball`]). For n ≤ 3 it is
+//! and vice versa (`wang_ball_to_bernstein`, `bernstein_to_wang_ball`). For n ≤ 3 it is
 //! the Said–Ball / cubic Ball basis; its lower-degree factors make evaluation cheaper than
 //! de Casteljau for high degrees.
 //!
@@ -23,7 +23,7 @@
 //! and describes the family of disks `(C(t), R(t))` whose center curve `C` and radius function
 //! `R` use the same Wang–Ball basis. For approximate merging of two adjacent DWB curves
 //! (§2.2.2) the paper subdivides the merged curve at `λ = L₁ / (L₁ + L₂)`, the ratio of the
-//! arc lengths of the two center curves ([`merge_lambda`]).
+//! arc lengths of the two center curves (`merge_lambda`).
 //!
 //! No maintained crate implements Wang–Ball curves, so this module is hand-written.
 //!
@@ -34,14 +34,13 @@
 mod basis;
 mod convert;
 mod disk;
-pub mod envelope;
+pub(crate) mod envelope;
 
-pub use basis::{wang_ball_basis, wang_ball_basis_derivative};
-pub use convert::{
-    bernstein_to_wang_ball, bezier_points_to_wang_ball, wang_ball_points_to_bezier,
-    wang_ball_to_bernstein,
-};
-pub use disk::{merge_lambda, Disk, DiskWangBall, WangBall};
+pub(crate) use basis::wang_ball_basis;
+pub(crate) use convert::{bezier_points_to_wang_ball, wang_ball_points_to_bezier};
+pub(crate) use disk::merge_lambda;
+pub use disk::{Disk, DiskWangBall, WangBall};
+pub use envelope::{envelope, envelope_band, envelope_points};
 
 #[cfg(test)]
 mod tests;

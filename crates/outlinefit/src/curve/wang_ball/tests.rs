@@ -1,4 +1,7 @@
-use super::convert::{invert_exact, wang_ball_to_bernstein_exact};
+use super::basis::wang_ball_basis_derivative;
+use super::convert::{
+    bernstein_to_wang_ball, invert_exact, wang_ball_to_bernstein, wang_ball_to_bernstein_exact,
+};
 use super::*;
 use crate::curve::basis::binomial_exact;
 use crate::geom::Point;

@@ -1,5 +1,5 @@
 //! Refitting a given segmentation with a metaheuristic optimizer (any of [`crate::optim`]).
-//! [`fit_contour`] is the entry point: it picks the search space of the options and hands
+//! [`refit_contour`] is the entry point: it picks the search space of the options and hands
 //! the segmentation to the module that owns it.
 //!
 //! The segmentation, the joint kinds and the fixed centripetal parameters (Eq. 2–3 of the
@@ -28,7 +28,7 @@ use crate::fit::FittedContour;
 
 /// Refits every segment of `base` (segmentation and joint kinds kept) with the optimizer
 /// and search space of `opts`. `contour_index` feeds the per-segment seeds.
-pub fn fit_contour(
+pub fn refit_contour(
     base: &FittedContour,
     opts: &RefitOptions,
     contour_index: usize,
