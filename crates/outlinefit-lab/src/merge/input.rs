@@ -23,7 +23,7 @@ struct CurveJson {
 ///
 /// Errors ([`Error::InvalidInput`]): malformed JSON, not exactly two curves, a curve with
 /// fewer than two disks or with different numbers of centers and radii. Adjacency, finiteness
-/// and signs are checked by [`super::MergeProblem::new`].
+/// and signs are checked by [`outlinefit::merge::MergeProblem::new`].
 pub fn parse_curves(text: &str, what: &str) -> Result<(DiskWangBall, DiskWangBall)> {
     let bad = |message: String| Error::InvalidInput {
         what: what.to_string(),
