@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = std::env::args()
         .nth(1)
         .map_or_else(std::env::temp_dir, PathBuf::from);
-    let image = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/s.png");
+    let image = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/s.png");
     let options = CompareOptions {
         optimizers: vec![Algorithm::Hs, Algorithm::Ga, Algorithm::Pso],
         runs: 5,

@@ -7,7 +7,7 @@
 
 use outlinefit::merge::{MergeMethod as Method, MergeOptions, MergeProblem};
 use outlinefit::optim;
-use outlinefit_lab::merge::paper;
+use outlinefit_lab::merge::examples;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -15,8 +15,8 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let runs: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(30);
     let budget: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(25_000);
-    let example1 = paper::example1();
-    let example3 = paper::example3();
+    let example1 = examples::example1();
+    let example3 = examples::example3();
     // (name, curves, degree, preserve, the paper's BEESO error and best other method)
     let cases = [
         (

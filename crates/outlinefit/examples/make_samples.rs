@@ -307,7 +307,7 @@ fn logo(dir: &Path) -> Res<()> {
 }
 
 fn main() -> Res<()> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("samples");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
     std::fs::create_dir_all(&dir)?;
     let font_path = dir.join("fonts").join("DejaVuSans.ttf");
     let font_data = std::fs::read(&font_path)

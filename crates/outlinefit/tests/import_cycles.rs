@@ -1,11 +1,12 @@
-//! No import cycles between the source files of the crate.
+//! No import cycles between the source files of any crate of the workspace.
 //!
 //! Every `use` of a `crate::`, `super::` or `self::` path (and every such path written
 //! inline in the code) is an arrow from the file that writes it to the file of the module
 //! it names; a re-export (`pub use`) is not: it is the module's face, not a dependency of
 //! its code. Code under `#[cfg(test)]` is left
-//! out: tests may reach anywhere. The library (`src/lib.rs` and its modules) and the
-//! program (`src/main.rs`, `src/cli/`) are read as the two crates they are. Any circle of
+//! out: tests may reach anywhere. Each crate under `crates/` is read on its own (a path
+//! into another crate is not an arrow within this one); a crate's library (`src/lib.rs`
+//! and its modules) and program (`src/main.rs`, `src/cli/`) are read apart. Any circle of
 //! arrows fails the test, which prints it with the names that tie it. A module's `mod.rs`
 //! may name its children (a registry, a dispatch) only if they do not import it back: what
 //! they share lives in a sibling file (`optim/problem.rs`, `surface/data.rs`,
@@ -17,21 +18,37 @@ use std::path::{Path, PathBuf};
 
 #[test]
 fn source_files_import_no_cycle() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let files = rust_files(&src);
-    assert!(files.len() > 20, "found only {} source files", files.len());
+    // Every crate of the workspace: this one and its siblings under `crates/`.
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let mut circles = Vec::new();
-    for program in [false, true] {
-        let modules: BTreeMap<Vec<String>, PathBuf> = files
-            .iter()
-            .filter_map(|f| {
-                let rel = f.strip_prefix(&src).ok()?;
-                (is_program(rel) == program).then(|| (module_path(rel), rel.to_path_buf()))
-            })
-            .collect();
-        let graph = import_graph(&src, &modules);
-        circles.extend(cycles(&graph).into_iter().map(|(_, text)| text));
+    let mut checked = Vec::new();
+    for entry in fs::read_dir(&crates).unwrap() {
+        let src = entry.unwrap().path().join("src");
+        if !src.is_dir() {
+            continue;
+        }
+        let files = rust_files(&src);
+        checked.push((src.display().to_string(), files.len()));
+        for program in [false, true] {
+            let modules: BTreeMap<Vec<String>, PathBuf> = files
+                .iter()
+                .filter_map(|f| {
+                    let rel = f.strip_prefix(&src).ok()?;
+                    (is_program(rel) == program).then(|| (module_path(rel), rel.to_path_buf()))
+                })
+                .collect();
+            let graph = import_graph(&src, &modules);
+            let name = src.display();
+            circles.extend(
+                cycles(&graph)
+                    .into_iter()
+                    .map(|(_, text)| format!("{name}: {text}")),
+            );
+        }
     }
+    // The tracer, the lab and the program, each with its files.
+    assert_eq!(checked.len(), 3, "{checked:?}");
+    assert!(checked.iter().all(|(_, n)| *n >= 10), "{checked:?}");
     assert!(
         circles.is_empty(),
         "import cycles between source files:\n{}",

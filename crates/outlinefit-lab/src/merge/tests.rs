@@ -1,7 +1,7 @@
 //! The merge of two disk Wang–Ball curves ([`outlinefit::merge::MergeProblem`]) on the
 //! BEESO paper's examples and on curves with known answers.
 
-use super::paper::{dwb, example1, example3};
+use super::examples::{dwb, example1, example3};
 use outlinefit::curve::wang_ball::{Disk, DiskWangBall};
 use outlinefit::merge::{MergeMethod as Method, MergeOptions, MergeProblem, MAX_DEGREE};
 use outlinefit::optim::{self, Problem};
