@@ -198,6 +198,39 @@ fn same_seed_gives_identical_outputs_on_one_and_two_threads() {
 }
 
 #[test]
+fn a_one_pixel_image_fails_its_row_and_the_batch_goes_on() {
+    // A 1 x 1 black image panicked (and took the whole batch down, leaving the summary
+    // unfinished); now it is one typed error row among good files.
+    let dir = scratch("onepixel");
+    let input = dir.join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    for name in ["a.png", "c.png"] {
+        std::fs::copy(common::samples_dir().join("s.png"), input.join(name)).unwrap();
+    }
+    image::GrayImage::from_pixel(1, 1, image::Luma([0u8]))
+        .save(input.join("b.png"))
+        .unwrap();
+    let out = dir.join("out");
+    let r = batch(&input, &out, "2", &[]);
+    assert_eq!(
+        r.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    assert!(out.join("a.svg").exists() && out.join("c.svg").exists());
+    assert!(!out.join("b.svg").exists());
+    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 4, "{summary}");
+    let row = summary.lines().find(|l| l.contains("b.png")).unwrap();
+    assert!(
+        row.contains(",failed,") && row.contains("smaller than the minimum area"),
+        "{row}"
+    );
+    assert_eq!(summary.matches(",ok,").count(), 2, "{summary}");
+}
+
+#[test]
 fn batch_reports_failures_and_converts_the_rest() {
     let dir = scratch("batch");
     let input = dir.join("in");

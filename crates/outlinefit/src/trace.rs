@@ -304,12 +304,18 @@ fn nothing_traced(bitmap: &Bitmap, min_area: f64) -> Error {
             hint,
         };
     }
-    let labels = imageproc::region_labelling::connected_components(
-        &mask,
-        imageproc::region_labelling::Connectivity::Eight,
-        image::Luma([0u8]),
-    );
-    let shapes = labels.pixels().map(|p| p[0]).max().unwrap_or(0) as usize;
+    // imageproc's labelling panics on a one-pixel image (its union-find asserts), which
+    // can only hold one shape.
+    let shapes = if mask.width() * mask.height() == 1 {
+        1
+    } else {
+        let labels = imageproc::region_labelling::connected_components(
+            &mask,
+            imageproc::region_labelling::Connectivity::Eight,
+            image::Luma([0u8]),
+        );
+        labels.pixels().map(|p| p[0]).max().unwrap_or(0) as usize
+    };
     Error::AllBelowMinArea { shapes, min_area }
 }
 

@@ -279,30 +279,44 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
         return row;
     }
     let started = Instant::now();
-    let outcome = (|| -> anyhow::Result<TraceResult> {
-        if let Some(parent) = svg_path.parent() {
-            std::fs::create_dir_all(parent)
-                .with_context(|| format!("cannot create {}", parent.display()))?;
-        }
-        let result = trace_file(&job.input, config)?;
-        if args.fit.strict {
-            if let Some(problem) = fidelity_problem(config, &result) {
-                bail!("{problem}; nothing written (--strict)");
+    // Each file is traced in isolation: a panic anywhere in its pipeline (a bug, which the
+    // panic message on standard error reports) fails this file's row, and the batch goes on.
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(
+        || -> anyhow::Result<TraceResult> {
+            if let Some(parent) = svg_path.parent() {
+                std::fs::create_dir_all(parent)
+                    .with_context(|| format!("cannot create {}", parent.display()))?;
             }
-        }
-        if !args.svg_only {
-            let target = resolve_output(&with_suffix(&base, ".json"), args.follow_symlinks)?;
-            write_atomic_with(&target, |w| {
-                report::write_json(w, config, &[(&row.file, &result)], false)
-            })?;
-        }
-        let target = resolve_output(&svg_path, args.follow_symlinks)?;
-        write_atomic(
-            &target,
-            to_svg(&result, &SvgOptions::for_tolerance(config.tolerance)).as_bytes(),
-        )?;
-        Ok(result)
-    })();
+            let result = trace_file(&job.input, config)?;
+            if args.fit.strict {
+                if let Some(problem) = fidelity_problem(config, &result) {
+                    bail!("{problem}; nothing written (--strict)");
+                }
+            }
+            if !args.svg_only {
+                let target = resolve_output(&with_suffix(&base, ".json"), args.follow_symlinks)?;
+                write_atomic_with(&target, |w| {
+                    report::write_json(w, config, &[(&row.file, &result)], false)
+                })?;
+            }
+            let target = resolve_output(&svg_path, args.follow_symlinks)?;
+            write_atomic(
+                &target,
+                to_svg(&result, &SvgOptions::for_tolerance(config.tolerance)).as_bytes(),
+            )?;
+            Ok(result)
+        },
+    ))
+    .unwrap_or_else(|panic| {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Err(anyhow::anyhow!(
+            "internal error while tracing this file ({what}); please report it with the file"
+        ))
+    });
     match outcome {
         Ok(result) => {
             row.segments = result.segment_count();
