@@ -524,7 +524,13 @@ fn messages_say_what_happened() {
     std::fs::remove_file(&out).unwrap();
     let (code, _, err) = trace(&blank, &[]);
     assert_eq!(code, 1);
-    assert!(err.contains("every pixel is background"), "{err}");
+    // It says what would count as a shape, not "background (luminance below …)", which
+    // reads as the opposite.
+    assert!(
+        err.contains("no pixel has luminance below ")
+            && err.contains(", so every pixel is background"),
+        "{err}"
+    );
     // Negative values reach the range checks instead of being taken for options.
     for (args, status, expect) in [
         (["--tolerance", "-1"], 1, "--tolerance"),

@@ -68,8 +68,9 @@ pub enum Error {
         /// Available memory when the check ran, MB.
         available_mb: u64,
     },
-    /// Nothing was found to trace: every pixel is background.
-    #[error("no shape found: every pixel is background ({threshold}); {hint}")]
+    /// Nothing was found to trace: no pixel passes the threshold, so every pixel is
+    /// background.
+    #[error("no shape found: no pixel has {threshold}, so every pixel is background; {hint}")]
     NoForeground {
         /// The threshold that was used, as a user reads it (e.g. "luminance below 136.0").
         threshold: String,

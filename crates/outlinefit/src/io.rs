@@ -24,6 +24,33 @@ static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 /// The temporary files being written right now, for [`remove_live_temporaries`].
 static LIVE_TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// The longest file name (in bytes) that common file systems accept.
+const NAME_MAX: usize = 255;
+
+/// The temporary file's name for an output named `name`: `name` + `TEMP_MARK` +
+/// `<pid>-<n>`, with `name` shortened (at a character boundary) when the whole would pass
+/// [`NAME_MAX`], so that every output name the file system accepts can be written.
+fn temp_name(name: &std::ffi::OsStr) -> std::ffi::OsString {
+    let suffix = format!(
+        "{TEMP_MARK}{}-{}",
+        std::process::id(),
+        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
+    );
+    let keep = NAME_MAX.saturating_sub(suffix.len());
+    let mut temp = if name.len() <= keep {
+        name.to_os_string()
+    } else {
+        let lossy = name.to_string_lossy();
+        let mut end = keep.min(lossy.len());
+        while !lossy.is_char_boundary(end) {
+            end -= 1;
+        }
+        std::ffi::OsString::from(&lossy[..end])
+    };
+    temp.push(suffix);
+    temp
+}
+
 /// What every temporary file's name contains: `<name>` + `TEMP_MARK` + `<pid>-<n>`.
 pub(crate) const TEMP_MARK: &str = ".outlinefit-tmp-";
 
@@ -66,13 +93,7 @@ where
         other => other,
     })?;
     check_replaceable(path).map_err(fail)?;
-    let mut temp_name = name.to_os_string();
-    temp_name.push(format!(
-        "{TEMP_MARK}{}-{}",
-        std::process::id(),
-        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let temp = dir.join(temp_name);
+    let temp = dir.join(temp_name(name));
     track(&temp, true);
     let result = write_new(&temp, fill).and_then(|()| {
         if let Ok(meta) = fs::metadata(path) {
@@ -232,6 +253,28 @@ where
 mod tests {
     use super::*;
     use std::path::PathBuf;
+
+    #[test]
+    fn an_output_name_of_250_bytes_is_written() {
+        // The temporary's suffix must not push a name the file system accepts past its
+        // 255-byte limit (it did: "File name too long").
+        let dir = scratch("longname");
+        for name in ["a".repeat(251) + ".svg", "é".repeat(123) + ".svg"] {
+            assert!(
+                name.len() >= 250 && name.len() <= NAME_MAX,
+                "{}",
+                name.len()
+            );
+            let path = dir.join(&name);
+            write_atomic(&path, b"<svg/>").unwrap();
+            assert_eq!(fs::read(&path).unwrap(), b"<svg/>");
+            let temp = temp_name(std::ffi::OsStr::new(&name));
+            assert!(temp.len() <= NAME_MAX && temp.to_string_lossy().contains(TEMP_MARK));
+        }
+        // Nothing but the two outputs is left behind.
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 2);
+        let _ = fs::remove_dir_all(&dir);
+    }
 
     /// A fresh, empty folder under the system temp dir, unique per test.
     fn scratch(name: &str) -> PathBuf {

@@ -101,7 +101,7 @@ fn cli_text(e: &Error) -> Option<String> {
                         .to_string()
                 }
             };
-            format!("no shape found: every pixel is background ({threshold}); {hint}")
+            format!("no shape found: no pixel has {threshold}, so every pixel is background; {hint}")
         }
         Error::AllBelowMinArea { shapes, min_area } => format!(
             "no shape found: all {shapes} shapes are smaller than the minimum area of {min_area} px² (lower --min-area to keep them)"
