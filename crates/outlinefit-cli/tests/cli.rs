@@ -198,6 +198,50 @@ fn same_seed_gives_identical_outputs_on_one_and_two_threads() {
 }
 
 #[test]
+fn an_output_named_for_another_format_is_refused() {
+    // `-o x.pdf` wrote SVG into a .pdf file without a word.
+    let dir = scratch("formats");
+    let input = common::samples_dir().join("s.png");
+    for (option, name, says) in [
+        ("-o", "x.pdf", "-o writes SVG, not PDF"),
+        ("-o", "x.png", "-o writes SVG, not PNG"),
+        ("--report", "r.csv", "--report writes JSON, not CSV"),
+        ("--csv", "r.json", "--csv writes CSV, not JSON"),
+        ("--overlay", "o.pdf", "--overlay writes SVG, not PDF"),
+    ] {
+        let path = dir.join(name);
+        let mut cmd = bin();
+        cmd.arg("trace").arg(&input).arg(option).arg(&path);
+        if option != "-o" {
+            cmd.arg("-o").arg(dir.join("ok.svg"));
+        }
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{option} {name}: {err}");
+        assert!(err.contains(says), "{option} {name}: {err}");
+        assert!(!path.exists() && !dir.join("ok.svg").exists(), "{name}");
+    }
+    // The right endings, in any case, and names without one are taken.
+    for name in ["x.SVG", "plain"] {
+        let out = bin()
+            .arg("trace")
+            .arg(&input)
+            .arg("-o")
+            .arg(dir.join(name))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(std::fs::read_to_string(dir.join(name))
+            .unwrap()
+            .starts_with("<svg"));
+    }
+}
+
+#[test]
 fn a_one_pixel_image_fails_its_row_and_the_batch_goes_on() {
     // A 1 x 1 black image panicked (and took the whole batch down, leaving the summary
     // unfinished); now it is one typed error row among good files.

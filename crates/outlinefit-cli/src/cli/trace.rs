@@ -46,6 +46,37 @@ pub(crate) struct TraceArgs {
     fit: FitArgs,
 }
 
+/// File endings of formats people may ask for by name; an output named with one of them
+/// must be the format its option writes.
+const KNOWN_ENDINGS: &[&str] = &[
+    "svg", "svgz", "pdf", "eps", "ps", "ai", "dxf", "emf", "wmf", "json", "geojson", "csv", "tsv",
+    "txt", "html", "png", "jpg", "jpeg", "gif", "bmp", "tif", "tiff", "webp", "pbm", "pgm", "ppm",
+    "pnm", "ico", "avif", "qoi", "tga", "exr", "hdr",
+];
+
+/// Refuses an output whose name ends in another format's ending than what `option`
+/// writes (`-o x.pdf` would otherwise get SVG under a PDF name). Endings are compared
+/// without case; a name without one, or with one no format uses, is taken as it is.
+fn check_format(option: &str, path: &Path) -> anyhow::Result<()> {
+    let writes = match option {
+        "--report" => "json",
+        "--csv" => "csv",
+        _ => "svg",
+    };
+    let Some(ending) = path.extension().map(|e| e.to_string_lossy().to_lowercase()) else {
+        return Ok(());
+    };
+    if ending != writes && KNOWN_ENDINGS.contains(&ending.as_str()) {
+        bail!(
+            "{option} {}: {option} writes {}, not {}; give a name ending in .{writes} (other formats are not written yet)",
+            path.display(),
+            writes.to_uppercase(),
+            ending.to_uppercase()
+        );
+    }
+    Ok(())
+}
+
 pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     let config = args.fit.config()?;
     config.validate()?;
@@ -97,6 +128,9 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         .map(|((o, _), t)| (*o, t.as_path()))
         .collect();
     check_distinct(&targets, Some(&args.input))?;
+    for (option, p) in &named {
+        check_format(option, p)?;
+    }
 
     let bitmap = if from_stdin {
         let mut bytes = Vec::new();
