@@ -10,7 +10,17 @@ fn main() {
         eprintln!("error: interrupted; outputs not yet written are missing");
         std::process::exit(130);
     });
-    match cli::run() {
+    // A panic is a bug: the panic hook has printed where it happened; the user still gets
+    // the one error line, the temporaries are removed, and the status is 1 like every
+    // other failure (not the runtime's 101).
+    let outcome = std::panic::catch_unwind(cli::run).unwrap_or_else(|panic| {
+        outlinefit::io::remove_live_temporaries();
+        Err(anyhow::anyhow!(
+            "internal error ({}); please report it with the input and the command",
+            cli::panic_message(panic.as_ref())
+        ))
+    });
+    match outcome {
         Ok(code) => std::process::exit(code),
         Err(e) => {
             // One line, the whole cause chain.

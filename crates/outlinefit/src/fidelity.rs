@@ -13,9 +13,10 @@
 //!    metaheuristic fit promises no tolerance, and is held to [`SHAPE_LIMIT`].
 //! 2. **Disagreement**: the drawn shape is rasterized at the pixel centres (even-odd over
 //!    all contours, as the SVG's paths fill) and compared with the thresholded input. A
-//!    pixel where they disagree and whose centre lies more than [`SHAPE_LIMIT`] (1 px) from
-//!    the drawn outline is a *far* pixel: at most a pixel from the outline, a disagreement
-//!    is only where the edge crosses the pixel. Far pixels are grouped into 8-connected
+//!    pixel where they disagree and whose centre lies more than [`SHAPE_LIMIT`] (1 px, or
+//!    the deviation limit when a loose tolerance allows more) from the drawn outline is a
+//!    *far* pixel: at most a pixel from the outline, a disagreement is only where the edge
+//!    crosses the pixel. Far pixels are grouped into 8-connected
 //!    regions; a region larger than max(`--min-area`, 2) px² is a lost or invented part
 //!    (smaller ones are specks that `--min-area` drops on purpose).
 //!
@@ -89,7 +90,8 @@ pub struct Fidelity {
     /// bound for `lsq`, `SHAPE_LIMIT` for metaheuristic fits.
     pub deviation_limit: f64,
     /// Area (px², counted in pixels) of the largest region where the drawn shape and the
-    /// thresholded input disagree by more than `SHAPE_LIMIT` from the outline.
+    /// thresholded input disagree farther than `SHAPE_LIMIT` (or the deviation limit, when
+    /// larger) from the outline.
     pub largest_region: f64,
     /// Largest region area accepted: max(`--min-area`, 2) px².
     pub region_limit: f64,
@@ -99,6 +101,14 @@ pub struct Fidelity {
     pub repaired_contours: usize,
     /// Shapes or holes the first trace had lost, restored by the repair.
     pub restored_contours: usize,
+    /// Segments of an `lsq` fit whose largest data-point distance (`max_distance` in
+    /// their report) is above `--tolerance`: pieces too short to split (under 7 data
+    /// points, about 5 px, between two corners). They are within `deviation_limit`, so
+    /// the verdict can hold; they are counted here, and the program warns, because the
+    /// tolerance was asked for. Always 0 for the metaheuristic fits, which promise none.
+    pub segments_over_tolerance: usize,
+    /// The largest `max_distance` of those segments (px), 0 when there are none.
+    pub worst_segment_distance: f64,
 }
 
 /// The findings of one check, with what the repair needs.
@@ -120,12 +130,14 @@ pub(crate) struct Findings {
 pub(crate) struct Region {
     /// Pixel indices (row × width + column).
     pub(crate) pixels: Vec<u32>,
-    /// Contours whose drawn outline passes within [`REGION_REACH`] px of the region.
+    /// Contours whose drawn outline passes within [`REGION_REACH`] px beyond the far
+    /// limit of the region.
     pub(crate) near_contours: Vec<usize>,
 }
 
-/// How far (px) from a region a contour counts as responsible for it.
-const REGION_REACH: f64 = 3.0;
+/// How far (px) beyond [`Limits::far`] from a region a contour counts as responsible for
+/// it.
+const REGION_REACH: f64 = 2.0;
 
 impl Findings {
     /// True when nothing is beyond the limits.
@@ -143,6 +155,16 @@ pub(crate) struct Limits {
     pub(crate) region: f64,
     /// Approximation bound of the SVG's cubics (px).
     pub(crate) bound: f64,
+}
+
+impl Limits {
+    /// Distance (px) from the drawn outline beyond which a disagreeing pixel is far:
+    /// [`SHAPE_LIMIT`], or the deviation limit when a loose tolerance allows more (a fit
+    /// that may stray 2 px from its data may leave pixels 2 px from the outline on the
+    /// wrong side; it is the tolerance the user asked for, not a lost part).
+    pub(crate) fn far(&self) -> f64 {
+        SHAPE_LIMIT.max(self.deviation)
+    }
 }
 
 /// An edge of the flattened drawn outline (a copy of its end points).
@@ -387,7 +409,8 @@ pub(crate) fn check(
     let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
 
     // 1. Deviation of every data point from its own contour's drawn path.
-    let reach = limits.deviation.max(SHAPE_LIMIT) * 2.0;
+    let far_limit = limits.far();
+    let reach = far_limit * 2.0;
     let deviation_of = |(i, c): (usize, &FittedContour)| -> (f64, Vec<usize>) {
         if polylines[i].is_empty() {
             return (0.0, Vec::new());
@@ -471,7 +494,7 @@ pub(crate) fn check(
                     let index = (row * w + col + k) as u32;
                     if !excused.contains(&index) {
                         let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
-                        if !grid.any_within(centre, SHAPE_LIMIT) {
+                        if !grid.any_within(centre, far_limit) {
                             far.push(index);
                         }
                     }
@@ -548,7 +571,7 @@ pub(crate) fn check(
             for &p in &pixels {
                 let centre =
                     Point::new((p as usize % w) as f64 + 0.5, (p as usize / w) as f64 + 0.5);
-                if let Some((_, c)) = grid.nearest(centre, REGION_REACH, None) {
+                if let Some((_, c)) = grid.nearest(centre, REGION_REACH + far_limit, None) {
                     near.insert(c);
                 }
             }
@@ -577,6 +600,9 @@ pub(crate) enum Repair {
     None,
     /// Same data points, corners added where the drawn path left them.
     Corners,
+    /// Same data points and corners, fitted again at the `k`-th tighter tolerance of
+    /// [`tighter_tolerance`].
+    Tighter(u8),
     /// Data points traced again from the thresholded pixels (bilevel regression).
     PixelSmoothed,
     /// The pixel-edge midpoints themselves, cut at the corners of their polygon.
@@ -584,14 +610,40 @@ pub(crate) enum Repair {
 }
 
 impl Repair {
-    /// The next trace after this one, `None` past the last.
-    pub(crate) fn next(self) -> Option<Repair> {
+    /// The next trace after this one for a trace at `tolerance`, `None` past the last.
+    pub(crate) fn next(self, tolerance: f64) -> Option<Repair> {
+        let tighter = |k: u8| {
+            if tighter_tolerance(tolerance, k).is_some() {
+                Repair::Tighter(k)
+            } else {
+                Repair::PixelSmoothed
+            }
+        };
         match self {
-            Repair::None | Repair::Corners => Some(Repair::PixelSmoothed),
+            Repair::None | Repair::Corners => Some(tighter(1)),
+            Repair::Tighter(k) => Some(tighter(k + 1)),
             Repair::PixelSmoothed => Some(Repair::PixelRaw),
             Repair::PixelRaw => None,
         }
     }
+}
+
+/// Tolerance (px) below which no repair refits: the pixel traces come next.
+const TIGHTEST: f64 = 0.15;
+
+/// The `k`-th tolerance (from 1) at which the repair refits a contour that failed at
+/// `tolerance`, before it falls back to the pixels: half of it, a quarter, then
+/// [`TIGHTEST`] if a quarter was still above it (so that a fit at `--tolerance 10` that
+/// fails gets a tight fit, not a pixel polygon). `None` past the last.
+pub(crate) fn tighter_tolerance(tolerance: f64, k: u8) -> Option<f64> {
+    let mut steps: Vec<f64> = [tolerance / 2.0, tolerance / 4.0]
+        .into_iter()
+        .filter(|&t| t >= TIGHTEST / 2.0)
+        .collect();
+    if tolerance / 4.0 > TIGHTEST {
+        steps.push(TIGHTEST);
+    }
+    steps.get(usize::from(k).checked_sub(1)?).copied()
 }
 
 /// Indices of the polygon vertices that Douglas–Peucker keeps at `tolerance` px on a

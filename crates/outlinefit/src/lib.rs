@@ -78,7 +78,7 @@ pub use crate::fidelity::Fidelity;
 pub use crate::fit::placement::BreakPlacement;
 pub use crate::fit::{FittedContour, FittedSegment, Joint, Method, Search, SegmentError};
 pub use crate::geom::{Bounds, Point};
-pub use crate::raster::{AlphaRule, Bitmap, RasterOptions, ThresholdScale};
+pub use crate::raster::{AlphaRule, Bitmap, RasterOptions, ThresholdMode, ThresholdScale};
 pub use crate::trace::{trace_bitmap, trace_file, Config, ImageInfo, TraceResult};
 
 /// The version of this crate, recorded in reports.

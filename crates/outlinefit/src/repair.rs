@@ -7,22 +7,26 @@
 //! 1. *Corners*: the same data points, with a corner (G0 joint) at every point where the
 //!    drawn path left them, so that a short run that could not be split, or a corner the
 //!    curvature analysis missed, is fitted on both sides of it.
-//! 2. *Pixel trace*: the data points traced again from the thresholded pixels alone (the
+//! 2. *Tighter fits*: the same data points and corners, fitted again at half the
+//!    tolerance, a quarter, then 0.15 px (`fidelity::tighter_tolerance`): a loose
+//!    `--tolerance` that fails is tightened before anything falls back to the pixels.
+//! 3. *Pixel trace*: the data points traced again from the thresholded pixels alone (the
 //!    bilevel regression), when grey-level refinement moved them off the pixels.
-//! 3. *Pixel polygon*: the pixel-edge midpoints themselves, cut at the vertices of their
+//! 4. *Pixel polygon*: the pixel-edge midpoints themselves, cut at the vertices of their
 //!    Douglas–Peucker polygon: exact to the mask, at the cost of more segments.
 
 use crate::breaks::{find_breaks, Break, BreakOptions, BreakReason, SegmentedContour};
 use crate::contour::{Extraction, PixelTrace};
 use crate::error::Result;
-use crate::fidelity::{check, polygon_corners, Fidelity, Limits, Repair};
+use crate::fidelity::{check, polygon_corners, tighter_tolerance, Fidelity, Limits, Repair};
 use crate::fit::{FittedContour, JointKind};
 use crate::merge::outline::MergedCurve;
 use crate::raster::Bitmap;
 use std::collections::{BTreeSet, HashSet};
 
-/// Rounds of check and repair before giving up.
-const MAX_ROUNDS: usize = 6;
+/// Rounds of check and repair before giving up (enough for every step of [`Repair`]
+/// with corners added before each).
+const MAX_ROUNDS: usize = 12;
 
 /// Tolerance (px) of the pixel polygon's corners: the midpoints of a digital straight line
 /// lie within half a pixel of it.
@@ -42,10 +46,12 @@ pub(crate) struct RepairInput<'a> {
     pub(crate) min_area: f64,
     /// How the trace finds break points.
     pub(crate) break_options: &'a BreakOptions,
+    /// The trace's `--tolerance` (px).
+    pub(crate) tolerance: f64,
     /// Fits one segmented contour as the trace does (its second argument is the
-    /// contour's index, its third whether the fit is a repair, which the trace fits by
-    /// `lsq` alone).
-    pub(crate) fit: &'a dyn Fn(SegmentedContour, usize, bool) -> Result<FittedContour>,
+    /// contour's index, its third the tolerance of a repair, which the trace fits by
+    /// `lsq` alone; `None` for the trace's own fit).
+    pub(crate) fit: &'a dyn Fn(SegmentedContour, usize, Option<f64>) -> Result<FittedContour>,
 }
 
 /// Checks `contours` (drawn with their `merged` curves, one list per contour) against
@@ -62,6 +68,7 @@ pub(crate) fn check_and_repair(
         limits,
         min_area,
         break_options,
+        tolerance,
         fit,
     } = input;
     let mut level = vec![Repair::None; contours.len()];
@@ -95,14 +102,19 @@ pub(crate) fn check_and_repair(
             let step = if !bad.is_empty() && (!corners_tried[i] || level[i] == Repair::PixelRaw) {
                 Repair::Corners
             } else {
-                match level[i].next() {
+                match level[i].next(tolerance) {
                     Some(next) => next,
                     None => continue,
                 }
             };
+            let mut fit_tolerance = tolerance;
             let seg = match step {
                 Repair::None => continue,
                 Repair::Corners => with_corners(&contours[i], bad),
+                Repair::Tighter(k) => {
+                    fit_tolerance = tighter_tolerance(tolerance, k).unwrap_or(tolerance);
+                    corners_kept(&contours[i])
+                }
                 Repair::PixelSmoothed | Repair::PixelRaw => {
                     let how = if step == Repair::PixelRaw {
                         PixelTrace::Raw
@@ -126,7 +138,7 @@ pub(crate) fn check_and_repair(
                 level[i] = step;
                 corners_tried[i] = false;
             }
-            contours[i] = fit(seg, i, true)?;
+            contours[i] = fit(seg, i, Some(fit_tolerance))?;
             merged[i].clear();
             repaired.insert(i);
             progressed = true;
@@ -166,7 +178,7 @@ pub(crate) fn check_and_repair(
                     continue;
                 };
                 let index = contours.len();
-                contours.push(fit(find_breaks(&c, break_options), index, true)?);
+                contours.push(fit(find_breaks(&c, break_options), index, Some(tolerance))?);
                 merged.push(Vec::new());
                 border_of.push(b);
                 level.push(Repair::PixelSmoothed);
@@ -189,6 +201,8 @@ pub(crate) fn check_and_repair(
         region_box: findings.largest.1,
         repaired_contours: repaired.len(),
         restored_contours: restored,
+        segments_over_tolerance: 0,
+        worst_segment_distance: 0.0,
     })
 }
 
@@ -226,6 +240,14 @@ fn with_corners(contour: &FittedContour, bad: &[usize]) -> SegmentedContour {
         parent: contour.parent,
         breaks,
     }
+}
+
+/// The contour's own points with its corners (given and added by the repair), for a
+/// fit that places its smooth splits anew.
+fn corners_kept(contour: &FittedContour) -> SegmentedContour {
+    let mut seg = with_corners(contour, &[]);
+    seg.breaks.retain(|b| b.kind == JointKind::Corner);
+    seg
 }
 
 /// Pixel-edge midpoints cut into straight runs at the corners of their polygon.

@@ -34,6 +34,10 @@ pub struct Config {
     pub frame: u32,
     /// Treat light shapes on a dark background as the foreground. Default: false.
     pub invert: bool,
+    /// One threshold for the whole image (`global`), uneven lighting divided out first
+    /// (`local`), or local only where the global threshold would paint unevenly lit
+    /// paper as ink (`auto`, the default). See [`raster::ThresholdMode`].
+    pub threshold_mode: raster::ThresholdMode,
     /// Largest image accepted, in pixels (width × height). Default: 50 000 000, about
     /// 250 MB of working memory at worst.
     pub max_pixels: u64,
@@ -99,6 +103,7 @@ impl Config {
         alpha: raster::AlphaRule::Auto,
         frame: 0,
         invert: false,
+        threshold_mode: raster::ThresholdMode::Auto,
         max_pixels: 50_000_000,
         min_area: 2.0,
         corner_angle: 50.0,
@@ -197,6 +202,7 @@ impl Config {
             frame: self.frame,
             invert: self.invert,
             max_pixels: self.max_pixels,
+            threshold_mode: self.threshold_mode,
         }
     }
 }
@@ -215,6 +221,9 @@ pub struct ImageInfo {
     /// `inverted_luminance`, `alpha` (more opaque is the shape), `inverted_alpha`, or
     /// `coverage` for a bitmap built from coverage values.
     pub threshold_scale: raster::ThresholdScale,
+    /// `global` or `local` (uneven lighting divided out before the threshold): what was
+    /// used, also when `auto` chose.
+    pub threshold_mode: raster::ThresholdMode,
     /// True when the image has (almost) no grey levels at its edges, so the outline was
     /// smoothed instead of refined to sub-pixel positions.
     pub bilevel: bool,
@@ -222,6 +231,9 @@ pub struct ImageInfo {
     pub from_alpha: bool,
     /// True when most of the image border is foreground: the polarity is probably wrong.
     pub dark_border: bool,
+    /// Share (0–1) of the outermost ring of pixels that is foreground: a shape running
+    /// along much of the border is often a scan's dark edge or shadow, not a shape.
+    pub border_foreground: f64,
     /// The frame of an animation or page of a TIFF file that was traced, from 0.
     pub frame: u32,
     /// How many frames or pages the file has (1 for a still image).
@@ -351,13 +363,19 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         degree: config.merge_degree,
         tolerance: config.tolerance,
     });
-    // A contour that the repair traces again (`repairing`) is fitted by `lsq` alone: the
-    // stages after it are what may have lost the shape, and `lsq` holds the tolerance.
-    let fit_one = |seg: SegmentedContour, i: usize, repairing: bool| -> Result<FittedContour> {
-        let mut chain = fit::lsq::fit_contour(&seg, &lsq_options);
-        if repairing {
-            return Ok(chain);
+    // A contour that the repair traces again (`repair`: at that tolerance) is fitted by
+    // `lsq` alone: the stages after it are what may have lost the shape, and `lsq` holds
+    // the tolerance.
+    let fit_one = |seg: SegmentedContour, i: usize, repair: Option<f64>| -> Result<FittedContour> {
+        if let Some(tolerance) = repair {
+            return Ok(if tolerance == config.tolerance {
+                fit::lsq::fit_contour(&seg, &lsq_options)
+            } else {
+                let options = fit::lsq::LsqOptions::for_tolerance(tolerance, config.timings);
+                fit::lsq::fit_contour(&seg, &options)
+            });
         }
+        let mut chain = fit::lsq::fit_contour(&seg, &lsq_options);
         if let Some(opts) = &placement_options {
             chain = fit::placement::optimize_contour(&chain, opts, i)?;
         }
@@ -369,7 +387,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     // Merged curves come beside their contour (a repaired contour is drawn by its own
     // segments, see `repair`).
     let fit_indexed = |(i, c): (usize, &Contour)| -> Result<(FittedContour, Vec<MergedCurve>)> {
-        let fitted = fit_one(find_breaks(c, &break_options), i, false)?;
+        let fitted = fit_one(find_breaks(c, &break_options), i, None)?;
         let merged = merge_options.as_ref().map_or_else(Vec::new, |opts| {
             merge::outline::merge_contour(&fitted, opts)
         });
@@ -423,9 +441,22 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             limits,
             min_area: config.min_area,
             break_options: &break_options,
+            tolerance: config.tolerance,
             fit: &fit_one,
         };
-        repair::check_and_repair(input, &mut fitted, &mut merged)?
+        let mut fidelity = repair::check_and_repair(input, &mut fitted, &mut merged)?;
+        if meta_options.is_none() {
+            let over = fitted
+                .iter()
+                .flat_map(|c| &c.segments)
+                .map(|s| s.error.max_distance)
+                .filter(|&d| d > config.tolerance);
+            for d in over {
+                fidelity.segments_over_tolerance += 1;
+                fidelity.worst_segment_distance = fidelity.worst_segment_distance.max(d);
+            }
+        }
+        fidelity
     } else {
         Fidelity::default()
     };
@@ -442,7 +473,9 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             threshold_scale: bitmap.threshold_scale(),
             bilevel: bitmap.is_bilevel(),
             from_alpha: bitmap.from_alpha(),
+            threshold_mode: bitmap.threshold_mode(),
             dark_border: bitmap.dark_border(),
+            border_foreground: bitmap.border_foreground(),
             frame: bitmap.frame().0,
             frames: bitmap.frame().1,
         },

@@ -7,7 +7,7 @@
 mod common;
 
 use outlinefit::{to_svg, SvgOptions};
-use outlinefit::{trace_bitmap, Bitmap, Config};
+use outlinefit::{trace_bitmap, Bitmap, Config, ThresholdMode};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
@@ -457,5 +457,126 @@ fn a_wisp_that_tapers_to_nothing_is_traced_whole() {
             h <= 1.25,
             "bilevel {bilevel}: drawn outline {h:.2} px off the truth"
         );
+    }
+}
+
+/// A page of "text" (bars, rings and dots of known geometry) as an 8-bit scan: 0.1
+/// reflectance ink on white paper, lit by `light(x)` (1 = full light), with a little
+/// grain. Returns the image and the truth (true where ink).
+fn lit_page(w: u32, h: u32, light: impl Fn(f64) -> f64) -> (image::GrayImage, Vec<bool>) {
+    let ink = |x: f64, y: f64| {
+        let (cx, cy) = (x % 40.0, y % 36.0);
+        let bar = (4.0..28.0).contains(&cx) && (6.0..10.0).contains(&cy);
+        let (dx, dy) = (cx - 20.0, cy - 24.0);
+        let r = (dx * dx + dy * dy).sqrt();
+        let ring = (5.0..8.5).contains(&r);
+        let dot = (cx - 34.0).powi(2) + (cy - 24.0).powi(2) < 6.0;
+        bar || ring || dot
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut truth = Vec::with_capacity((w * h) as usize);
+    let img = image::GrayImage::from_fn(w, h, |x, y| {
+        // 4 × 4 supersampled reflectance.
+        let mut sum = 0.0;
+        for k in 0..16 {
+            let (sx, sy) = (
+                f64::from(x) + (f64::from(k % 4) + 0.5) / 4.0,
+                f64::from(y) + (f64::from(k / 4) + 0.5) / 4.0,
+            );
+            sum += if ink(sx, sy) { 0.1 } else { 1.0 };
+        }
+        truth.push(ink(f64::from(x) + 0.5, f64::from(y) + 0.5));
+        let lum =
+            sum / 16.0 * light(f64::from(x) / f64::from(w)) * 255.0 + rng.random_range(-3.0..3.0);
+        image::Luma([lum.round().clamp(0.0, 255.0) as u8])
+    });
+    (img, truth)
+}
+
+/// Pixels whose centre the drawn SVG puts on the other side than the truth.
+fn wrong_pixels(svg: &str, w: u32, h: u32, truth: &[bool]) -> usize {
+    let drawn = common::render_svg_coverage(svg, w, h);
+    drawn
+        .iter()
+        .zip(truth)
+        .filter(|&(&d, &t)| (d >= 0.5) != t)
+        .count()
+}
+
+/// A page lit from the right, its left side at a third of the light (a scan whose
+/// lid did not close, a photo of a page): Otsu's global threshold paints the dark side's
+/// paper as ink; `auto` divides the light out, and the trace matches the ink.
+#[test]
+fn an_unevenly_lit_page_is_traced_with_the_local_threshold() {
+    let (w, h) = (480, 324);
+    let light = |x: f64| 0.33 + 0.67 * (x / 0.7).min(1.0).powf(0.7);
+    let (img, truth) = lit_page(w, h, light);
+    let img = image::DynamicImage::ImageLuma8(img);
+    let traced = |mode: ThresholdMode| {
+        let config = Config {
+            threshold_mode: mode,
+            timings: false,
+            ..Config::default()
+        };
+        let bitmap = Bitmap::from_image(&img, &config.raster_options()).unwrap();
+        let result = trace_bitmap(&bitmap, &config).unwrap();
+        let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+        (result, wrong_pixels(&svg, w, h, &truth))
+    };
+    let (auto, auto_wrong) = traced(ThresholdMode::Auto);
+    assert_eq!(auto.image.threshold_mode, ThresholdMode::Local);
+    assert!(auto.fidelity.held);
+    // The same page evenly lit, traced with the global threshold: what edge pixels
+    // alone make differ.
+    let (even, _) = lit_page(w, h, |_| 1.0);
+    let even = image::DynamicImage::ImageLuma8(even);
+    let config = Config {
+        timings: false,
+        ..Config::default()
+    };
+    let bitmap = Bitmap::from_image(&even, &config.raster_options()).unwrap();
+    assert_eq!(bitmap.threshold_mode(), ThresholdMode::Global);
+    let result = trace_bitmap(&bitmap, &config).unwrap();
+    let even_wrong = wrong_pixels(&to_svg(&result, &SvgOptions::default()), w, h, &truth);
+    let ink = truth.iter().filter(|&&t| t).count();
+    eprintln!("wrong pixels: lit unevenly {auto_wrong}, evenly {even_wrong}, of {ink} ink");
+    assert!(
+        auto_wrong < 2 * even_wrong + ink / 100,
+        "{auto_wrong}, {even_wrong}"
+    );
+    assert!(auto.image.border_foreground < 0.05);
+    // The global threshold on the same page: the dark side is solid ink, and the
+    // border says so.
+    let (global, global_wrong) = traced(ThresholdMode::Global);
+    assert_eq!(global.image.threshold_mode, ThresholdMode::Global);
+    eprintln!("global threshold: {global_wrong} wrong");
+    assert!(global_wrong > 20 * auto_wrong, "{global_wrong}");
+    assert!(global.image.border_foreground > 0.25);
+}
+
+/// Over a sweep of tolerances, every bundled sample keeps its check and never gains
+/// segments as the tolerance grows (a loose fit that failed the check once fell back to
+/// the pixel polygon: 242 segments at 2 px on `s.png`, 13 at 0.3).
+#[test]
+fn segments_never_rise_with_the_tolerance() {
+    let sweep = [0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 3.0, 5.0, 10.0];
+    for path in common::sample_paths() {
+        let mut last = usize::MAX;
+        for &tolerance in &sweep {
+            let config = Config {
+                tolerance,
+                timings: false,
+                ..Config::default()
+            };
+            let result = outlinefit::trace_file(&path, &config).unwrap();
+            let segments: usize = result.contours.iter().map(|c| c.segments.len()).sum();
+            let name = path.display();
+            assert!(result.fidelity.held, "{name} at {tolerance}");
+            assert!(
+                segments <= last,
+                "{name}: {segments} segments at {tolerance} px, {last} below it"
+            );
+            last = segments;
+        }
     }
 }

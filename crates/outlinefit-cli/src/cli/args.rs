@@ -4,7 +4,7 @@
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
 use outlinefit::optim::Algorithm;
-use outlinefit::AlphaRule;
+use outlinefit::{AlphaRule, ThresholdMode};
 use outlinefit::{Config, Search};
 
 /// What a metaheuristic searches, as named on the command line.
@@ -31,6 +31,29 @@ impl From<SearchArg> for Search {
         match s {
             SearchArg::Full => Search::Full,
             SearchArg::Weights => Search::Weights,
+        }
+    }
+}
+
+/// How an image is thresholded, as named on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub(crate) enum ThresholdModeArg {
+    /// One threshold for the whole image.
+    Global,
+    /// Uneven lighting (a page darker on one side, a shadow) divided out first: the
+    /// paper's level is estimated in blocks across the image.
+    Local,
+    /// Local when the global threshold would paint large areas of unevenly lit paper as
+    /// ink, global otherwise.
+    Auto,
+}
+
+impl From<ThresholdModeArg> for ThresholdMode {
+    fn from(m: ThresholdModeArg) -> ThresholdMode {
+        match m {
+            ThresholdModeArg::Global => ThresholdMode::Global,
+            ThresholdModeArg::Local => ThresholdMode::Local,
+            ThresholdModeArg::Auto => ThresholdMode::Auto,
         }
     }
 }
@@ -98,6 +121,13 @@ pub(crate) struct ShapeArgs {
     /// Otsu's level; the report's "threshold" gives the one used, on the same scale.
     #[arg(long, value_name = "0-255", allow_negative_numbers = true, value_parser = whole::<u8>)]
     pub(crate) threshold: Option<u8>,
+    /// How the threshold applies: one for the whole image (global), or after the paper's
+    /// uneven lighting is divided out (local; for scans and photos of pages). auto
+    /// chooses local only when the global threshold would paint large areas of unevenly
+    /// lit paper as ink; the report's "threshold_mode" says which was used. Images traced
+    /// from their alpha channel always use global.
+    #[arg(long, value_enum, default_value = "auto", value_name = "MODE")]
+    pub(crate) threshold_mode: ThresholdModeArg,
     /// Trace the luminance (transparent pixels count as white paper) even when at least a
     /// tenth of the image is transparent, which otherwise traces its alpha channel.
     #[arg(long)]
@@ -129,6 +159,7 @@ impl ShapeArgs {
                 _ => AlphaRule::Auto,
             },
             invert: self.invert,
+            threshold_mode: self.threshold_mode.into(),
             max_pixels: self.max_pixels,
             frame: self.frame,
             min_area: self.min_area,

@@ -1,7 +1,7 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
 use super::args::FitArgs;
-use super::messages::{error_line, fidelity_problem, trace_warnings};
+use super::messages::{error_line, fidelity_problem, panic_message, trace_warnings};
 use super::output::resolve_output;
 use anyhow::{bail, Context};
 use clap::Args;
@@ -308,13 +308,9 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
         },
     ))
     .unwrap_or_else(|panic| {
-        let what = panic
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| panic.downcast_ref::<String>().cloned())
-            .unwrap_or_default();
         Err(anyhow::anyhow!(
-            "internal error while tracing this file ({what}); please report it with the file"
+            "internal error while tracing this file ({}); please report it with the file",
+            panic_message(panic.as_ref())
         ))
     });
     match outcome {

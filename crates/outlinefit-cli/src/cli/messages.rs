@@ -3,7 +3,11 @@
 //! library names options by their fields (`max_pixels`), the user reads flags
 //! (`--max-pixels`).
 
-use outlinefit::{Config, Error, ForegroundHint, TraceResult};
+use outlinefit::{Config, Error, ForegroundHint, ThresholdMode, TraceResult};
+
+/// Share of the image border above which foreground along it is worth a warning (above
+/// one half, the polarity warning says more).
+const BORDER_WARNING: f64 = 0.25;
 use outlinefit_lab::Error as LabError;
 
 /// The warnings and notes a trace deserves, one line each with its `warning: ` or `note: `
@@ -27,9 +31,29 @@ pub(crate) fn trace_warnings(name: &str, config: &Config, result: &TraceResult) 
                 "warning: {name}: most of the image border is foreground; if the shapes are light on a dark background, use --invert"
             )
         });
+    } else if result.image.border_foreground > BORDER_WARNING {
+        let hint = match result.image.threshold_mode {
+            ThresholdMode::Local => "crop the image if that is not part of the drawing",
+            _ => "if that is a shadow or the dark edge of a scan, try --threshold-mode local or crop the image",
+        };
+        out.push(format!(
+            "warning: {name}: the traced foreground covers {:.0}% of the image border; {hint}",
+            100.0 * result.image.border_foreground
+        ));
     }
     if let Some(problem) = fidelity_problem(config, result) {
         out.push(format!("warning: {name}: {problem}"));
+    }
+    let f = &result.fidelity;
+    if config.check && f.segments_over_tolerance > 0 {
+        let (n, plural) = match f.segments_over_tolerance {
+            1 => (1, "segment lies"),
+            n => (n, "segments lie"),
+        };
+        out.push(format!(
+            "warning: {name}: {n} {plural} farther than --tolerance {} px from their data (up to {:.2} px): too short to split (see \"segments_over_tolerance\" in the report)",
+            config.tolerance, f.worst_segment_distance
+        ));
     }
     out
 }
@@ -60,6 +84,16 @@ pub(crate) fn fidelity_problem(config: &Config, result: &TraceResult) -> Option<
         "the drawn outline does not match the input: {} (see \"fidelity\" in the report)",
         parts.join("; ")
     ))
+}
+
+/// The message a panic carried (its payload is a `&str` or a `String` when it came from
+/// `panic!` with a message), or an empty string.
+pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_default()
 }
 
 /// The flag of an options field: `max_pixels` → `--max-pixels`, `omega/lambda/mu` →

@@ -12,7 +12,7 @@ mod surface;
 mod trace;
 
 use clap::{Parser, Subcommand};
-pub(crate) use messages::error_line;
+pub(crate) use messages::{error_line, panic_message};
 
 /// Trace bitmap outlines into G1-continuous rational cubic Bézier curves, with a
 /// per-segment error report.

@@ -43,6 +43,9 @@ use std::path::Path;
 
 pub(crate) mod frames;
 mod levels;
+mod lighting;
+
+pub use lighting::ThresholdMode;
 
 /// Rec. 601 luma weights of red, green and blue.
 const REC601: [f32; 3] = [0.299, 0.587, 0.114];
@@ -81,6 +84,10 @@ pub struct RasterOptions {
     /// Which frame of an animation (GIF, APNG, WebP) or page of a TIFF file to trace,
     /// from 0. Default: 0.
     pub frame: u32,
+    /// One threshold for the whole image, or uneven lighting divided out first (see
+    /// [`ThresholdMode`]); images traced from their alpha channel always use one.
+    /// Default: [`ThresholdMode::Auto`].
+    pub threshold_mode: ThresholdMode,
 }
 
 /// What the threshold is compared with, as a user sees the image.
@@ -163,14 +170,16 @@ pub struct Bitmap {
     from_alpha: bool,
     /// What the threshold is compared with, as the user sees the image.
     scale: ThresholdScale,
-    /// True when most of the outermost ring of pixels is foreground.
-    dark_border: bool,
+    /// Share of the outermost ring of pixels that is foreground.
+    border_foreground: f64,
     /// Fraction of the pixels that are mostly transparent (alpha below one half).
     transparent: f64,
     /// The frame or page traced, from 0.
     frame: u32,
     /// How many frames or pages the file has (1 for a still image or a coverage field).
     frames: u32,
+    /// True when the paper's level was divided out before thresholding.
+    local_threshold: bool,
 }
 
 impl Bitmap {
@@ -269,13 +278,14 @@ impl Bitmap {
             bilevel: false,
             from_alpha,
             scale: ThresholdScale::Coverage,
-            dark_border: false,
+            border_foreground: 0.0,
             transparent: 0.0,
             frame: 0,
             frames: 1,
+            local_threshold: false,
         };
         bitmap.bilevel = bitmap.detect_bilevel();
-        bitmap.dark_border = bitmap.detect_dark_border();
+        bitmap.border_foreground = bitmap.measure_border();
         Ok(bitmap)
     }
 
@@ -386,6 +396,16 @@ impl Bitmap {
         self.scale
     }
 
+    /// [`ThresholdMode::Local`] when uneven lighting was divided out before the
+    /// threshold, [`ThresholdMode::Global`] otherwise (never `Auto`: what was used).
+    pub fn threshold_mode(&self) -> ThresholdMode {
+        if self.local_threshold {
+            ThresholdMode::Local
+        } else {
+            ThresholdMode::Global
+        }
+    }
+
     /// The threshold on [`Bitmap::threshold_scale`] (0–255), as `--threshold` takes it.
     pub fn threshold_value(&self) -> f64 {
         self.scale.value_of(self.threshold)
@@ -394,7 +414,12 @@ impl Bitmap {
     /// True when more than half of the outermost ring of pixels is foreground: the polarity
     /// is probably wrong (try `invert`). Only reported, never acted on.
     pub fn dark_border(&self) -> bool {
-        self.dark_border
+        self.border_foreground > 0.5
+    }
+
+    /// Share (0–1) of the outermost ring of pixels that is foreground.
+    pub fn border_foreground(&self) -> f64 {
+        self.border_foreground
     }
 
     /// True when a coverage value counts as foreground.
@@ -466,7 +491,7 @@ impl Bitmap {
         (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
     }
 
-    fn detect_dark_border(&self) -> bool {
+    fn measure_border(&self) -> f64 {
         let (w, h) = (i64::from(self.width), i64::from(self.height));
         let mut ring = 0u64;
         let mut dark = 0u64;
@@ -486,7 +511,7 @@ impl Bitmap {
                 visit(w - 1, r);
             }
         }
-        2 * dark > ring
+        dark as f64 / ring as f64
     }
 }
 
@@ -751,7 +776,21 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
     let threshold = opts
         .threshold
         .map(|t| scale.coverage_threshold(f64::from(t)));
+    let (w, h) = (width as usize, height as usize);
+    let map = match opts.threshold_mode {
+        _ if from_alpha => None,
+        ThresholdMode::Global => None,
+        ThresholdMode::Local => Some(lighting::PaperMap::new(&coverage, w, h)),
+        ThresholdMode::Auto => Some(lighting::PaperMap::new(&coverage, w, h))
+            .filter(|map| map.is_uneven(threshold.unwrap_or_else(|| otsu_threshold(&coverage)))),
+    };
+    let local = map.is_some();
+    let coverage = match map {
+        Some(map) => map.flatten(&coverage, w, h),
+        None => coverage,
+    };
     let mut bitmap = Bitmap::build(width, height, coverage, threshold, from_alpha)?;
+    bitmap.local_threshold = local;
     bitmap.scale = scale;
     bitmap.transparent = transparent;
     Ok(bitmap)
@@ -883,6 +922,7 @@ mod tests {
             invert: false,
             max_pixels: 1 << 30,
             frame: 0,
+            threshold_mode: ThresholdMode::Auto,
         }
     }
 

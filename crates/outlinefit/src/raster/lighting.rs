@@ -1,0 +1,284 @@
+//! The local threshold: uneven lighting taken out of a luminance image before it is
+//! thresholded.
+//!
+//! A scan or a photo of a page is lit unevenly: one side darker, a shadow near the
+//! binding, vignetting. Luminance is reflectance × light, so the paper's own luminance
+//! follows the light, and a global threshold (Otsu's) that separates ink from paper on
+//! the bright side paints the dark side's paper as ink. Here the paper's level is
+//! estimated across the page and divided out, which is a local threshold (the paper
+//! level plus a fixed share of the contrast, as in Bradley's and Sauvola's methods) that
+//! also keeps the grey levels at edges meaningful for the sub-pixel refinement.
+//!
+//! * **Paper level.** The image is cut into square blocks of [`block_size`] px (1/16 of
+//!   its longer side, 16 to 128 px: larger than a letter's stroke, smaller than the
+//!   light's changes); in each, the paper's coverage is the 10th percentile (text and
+//!   line art cover much less than nine tenths of a block) of a 16 × 16 grid of samples
+//!   or more. A 3 × 3 median over the
+//!   blocks replaces blocks that ink fills (a thick bar, a large dot) by their
+//!   neighbours' paper. The level at a pixel is the bilinear interpolation between block
+//!   centres, capped at [`PAPER_CAP`].
+//! * **Flattening.** Coverage c is 1 − luminance; paper of level p has luminance 1 − p,
+//!   so the reflectance is (1 − c)/(1 − p) and the flattened coverage is
+//!   (c − p)/(1 − p), clamped to [0, 1]: the paper becomes 0 everywhere and the ink keeps
+//!   its contrast. The threshold (Otsu's, or `--threshold`) is then chosen on the
+//!   flattened image.
+//! * **When (`ThresholdMode::Auto`).** Only where the global threshold would paint paper
+//!   as ink: blocks whose paper level is at or above the global threshold and that are
+//!   joined to clearly light paper (below the threshold by [`SMOOTH_STEP`]) through
+//!   neighbouring blocks whose paper levels differ by at most [`SMOOTH_STEP`]: light
+//!   changes smoothly, while a filled shape's edge is a jump from paper to ink. At
+//!   least [`UNEVEN_BLOCKS`] of the blocks (and two) must be such, so that a soft shadow
+//!   in one corner keeps the global threshold, and ink must lie on that paper somewhere
+//!   (a block with a sample [`INK_CONTRAST`] darker than its paper): a smooth ramp with
+//!   nothing on it is a drawing, not a lit page. Images traced from their alpha channel
+//!   are never flattened (alpha is not lit).
+
+use super::levels::{self, Levels};
+use std::collections::VecDeque;
+
+/// How an image is thresholded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ThresholdMode {
+    /// One threshold for the whole image (Otsu's, or `threshold`).
+    Global,
+    /// The paper's level estimated across the image and divided out first (see the
+    /// module docs of `raster::lighting`), then one threshold.
+    Local,
+    /// Local when the global threshold would paint large areas of unevenly lit paper as
+    /// ink, global otherwise.
+    #[default]
+    Auto,
+}
+
+/// Highest paper level (coverage) divided out: darker "paper" is ink.
+const PAPER_CAP: f32 = 0.8;
+/// Largest difference (coverage) between the paper levels of neighbouring blocks that
+/// counts as the same lit paper.
+const SMOOTH_STEP: f32 = 0.1;
+/// Share of the blocks that must be unevenly lit paper for `Auto` to choose `Local`.
+const UNEVEN_BLOCKS: f64 = 0.02;
+/// The paper's percentile within a block.
+const PAPER_PERCENTILE: f64 = 0.10;
+/// Coverage above the paper's that marks ink in a block.
+const INK_CONTRAST: f32 = 0.3;
+
+/// Side (px) of the blocks of an image whose longer side is `longest` px.
+fn block_size(longest: usize) -> usize {
+    (longest / 16).clamp(16, 128)
+}
+
+/// The paper's coverage per block, row-major over a `cols × rows` grid of `block` px.
+pub(super) struct PaperMap {
+    block: usize,
+    cols: usize,
+    rows: usize,
+    paper: Vec<f32>,
+    /// Per block: whether it holds ink, some sample at least [`INK_CONTRAST`] above the
+    /// block's paper.
+    ink: Vec<bool>,
+}
+
+impl PaperMap {
+    /// Estimates the paper level of every block of a `width × height` coverage field.
+    pub(super) fn new(coverage: &Levels, width: usize, height: usize) -> PaperMap {
+        let block = block_size(width.max(height));
+        let (cols, rows) = (width.div_ceil(block), height.div_ceil(block));
+        let mut paper = Vec::with_capacity(cols * rows);
+        let mut ink = Vec::with_capacity(cols * rows);
+        let mut row = vec![0.0f32; width];
+        // One 256-bin histogram per block of the current row of blocks.
+        let mut hist = vec![[0u32; 256]; cols];
+        let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
+        for by in 0..rows {
+            hist.iter_mut().for_each(|h| *h = [0; 256]);
+            let (y0, y1) = (by * block, ((by + 1) * block).min(height));
+            // Every `step`-th pixel of every `step`-th row: 256 or more samples per
+            // block, a 64th of a large page's pixels.
+            let step = (block / 16).max(1);
+            for y in (y0..y1).step_by(step) {
+                coverage.read(y * width, &mut row);
+                for x in (0..width).step_by(step) {
+                    hist[x / block][bin(row[x])] += 1;
+                }
+            }
+            for h in &hist {
+                let total: u32 = h.iter().sum();
+                let target = (f64::from(total) * PAPER_PERCENTILE).ceil().max(1.0) as u32;
+                let mut seen = 0;
+                let level = h
+                    .iter()
+                    .position(|&n| {
+                        seen += n;
+                        seen >= target
+                    })
+                    .unwrap_or(0);
+                let darkest = h.iter().rposition(|&n| n > 0).unwrap_or(0);
+                paper.push(level as f32 / 255.0);
+                ink.push((darkest - level) as f32 / 255.0 >= INK_CONTRAST);
+            }
+        }
+        let mut map = PaperMap {
+            block,
+            cols,
+            rows,
+            paper,
+            ink,
+        };
+        map.median_filter();
+        map
+    }
+
+    /// Replaces every block's level by the median of its 3 × 3 neighbourhood (the blocks
+    /// that exist).
+    fn median_filter(&mut self) {
+        let mut out = Vec::with_capacity(self.paper.len());
+        let mut near = Vec::with_capacity(9);
+        for r in 0..self.rows {
+            for c in 0..self.cols {
+                near.clear();
+                for rr in r.saturating_sub(1)..=(r + 1).min(self.rows - 1) {
+                    for cc in c.saturating_sub(1)..=(c + 1).min(self.cols - 1) {
+                        near.push(self.paper[rr * self.cols + cc]);
+                    }
+                }
+                near.sort_by(f32::total_cmp);
+                out.push(near[near.len() / 2]);
+            }
+        }
+        self.paper = out;
+    }
+
+    /// True when, at global threshold `threshold`, large areas of paper would be ink
+    /// (the rule of the module docs).
+    pub(super) fn is_uneven(&self, threshold: f64) -> bool {
+        let t = threshold as f32;
+        let n = self.paper.len();
+        // Blocks reached from clearly light paper through smooth steps.
+        let mut reached = vec![false; n];
+        let mut queue: VecDeque<usize> = (0..n)
+            .filter(|&i| self.paper[i] < t - SMOOTH_STEP)
+            .collect();
+        for &i in &queue {
+            reached[i] = true;
+        }
+        while let Some(i) = queue.pop_front() {
+            let (r, c) = (i / self.cols, i % self.cols);
+            let neighbours = [
+                (r > 0).then(|| i - self.cols),
+                (r + 1 < self.rows).then(|| i + self.cols),
+                (c > 0).then(|| i - 1),
+                (c + 1 < self.cols).then(|| i + 1),
+            ];
+            for j in neighbours.into_iter().flatten() {
+                if !reached[j] && (self.paper[j] - self.paper[i]).abs() <= SMOOTH_STEP {
+                    reached[j] = true;
+                    queue.push_back(j);
+                }
+            }
+        }
+        let dark_paper = || (0..n).filter(|&i| reached[i] && self.paper[i] >= t);
+        let count = dark_paper().count();
+        count >= 2 && count as f64 >= UNEVEN_BLOCKS * n as f64 && dark_paper().any(|i| self.ink[i])
+    }
+
+    /// The paper level at pixel (x, y): bilinear between block centres, capped.
+    fn level_row(&self, y: usize, out: &mut [f32]) {
+        let b = self.block as f32;
+        // Position in block-centre units, clamped to the grid.
+        let fy = ((y as f32 + 0.5) / b - 0.5).clamp(0.0, (self.rows - 1) as f32);
+        let r0 = fy as usize;
+        let r1 = (r0 + 1).min(self.rows - 1);
+        let ty = fy - r0 as f32;
+        for (x, o) in out.iter_mut().enumerate() {
+            let fx = ((x as f32 + 0.5) / b - 0.5).clamp(0.0, (self.cols - 1) as f32);
+            let c0 = fx as usize;
+            let c1 = (c0 + 1).min(self.cols - 1);
+            let tx = fx - c0 as f32;
+            let at = |r: usize, c: usize| self.paper[r * self.cols + c];
+            let top = at(r0, c0) + (at(r0, c1) - at(r0, c0)) * tx;
+            let bottom = at(r1, c0) + (at(r1, c1) - at(r1, c0)) * tx;
+            *o = (top + (bottom - top) * ty).min(PAPER_CAP);
+        }
+    }
+
+    /// The coverage with the paper divided out: (c − p)/(1 − p), clamped to [0, 1].
+    pub(super) fn flatten(&self, coverage: &Levels, width: usize, height: usize) -> Levels {
+        let mut out = Vec::with_capacity(width * height);
+        let (mut row, mut paper) = (vec![0.0f32; width], vec![0.0f32; width]);
+        for y in 0..height {
+            coverage.read(y * width, &mut row);
+            self.level_row(y, &mut paper);
+            out.extend(
+                row.iter()
+                    .zip(&paper)
+                    .map(|(&c, &p)| levels::quantise((c - p) / (1.0 - p))),
+            );
+        }
+        Levels::quantised(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A page of dark bars on paper whose coverage rises from `left` to `right`.
+    fn lit_page(w: usize, h: usize, left: f32, right: f32) -> Vec<f32> {
+        let mut out = Vec::with_capacity(w * h);
+        for y in 0..h {
+            for x in 0..w {
+                let paper = left + (right - left) * x as f32 / (w - 1) as f32;
+                let ink = (y / 8) % 3 == 0 && (x / 6) % 4 == 1;
+                let reflect = if ink { 0.1 } else { 1.0 };
+                out.push(1.0 - (1.0 - paper) * reflect);
+            }
+        }
+        out
+    }
+
+    fn levels_of(v: &[f32]) -> Levels {
+        Levels::quantised(v.iter().map(|&c| levels::quantise(c)).collect())
+    }
+
+    #[test]
+    fn a_gradient_page_is_uneven_and_flattens_to_clean_paper() {
+        let (w, h) = (400, 300);
+        let page = lit_page(w, h, 0.0, 0.7);
+        let cov = levels_of(&page);
+        let map = PaperMap::new(&cov, w, h);
+        assert!(map.is_uneven(0.5));
+        let flat = map.flatten(&cov, w, h);
+        let mut row = vec![0.0; w];
+        for y in 0..h {
+            flat.read(y * w, &mut row);
+            for (x, &v) in row.iter().enumerate() {
+                let ink = (y / 8) % 3 == 0 && (x / 6) % 4 == 1;
+                // Paper within 0.15 of 0 (the light changes across a block), ink at
+                // least 0.8, whatever the light.
+                if ink {
+                    assert!(v >= 0.8, "ink ({x}, {y}) {v}");
+                } else {
+                    assert!(v <= 0.15, "paper ({x}, {y}) {v}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn even_light_and_filled_shapes_keep_the_global_threshold() {
+        let (w, h) = (400, 300);
+        assert!(!PaperMap::new(&levels_of(&lit_page(w, h, 0.05, 0.15)), w, h).is_uneven(0.5));
+        // A black disk filling much of a white page: its edge is a jump, not light.
+        let disk: Vec<f32> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32 - 200.0, (i / w) as f32 - 150.0);
+                f32::from(u8::from(x * x + y * y < 120.0 * 120.0))
+            })
+            .collect();
+        assert!(!PaperMap::new(&levels_of(&disk), w, h).is_uneven(0.5));
+        // A smooth ramp with nothing on it is a drawing.
+        let ramp: Vec<f32> = (0..w * h).map(|i| (i % w) as f32 / w as f32).collect();
+        assert!(!PaperMap::new(&levels_of(&ramp), w, h).is_uneven(0.5));
+    }
+}
