@@ -13,7 +13,9 @@
 //! 3. *Pixel trace*: the data points traced again from the thresholded pixels alone (the
 //!    bilevel regression), when grey-level refinement moved them off the pixels.
 //! 4. *Pixel polygon*: the pixel-edge midpoints themselves, cut at the vertices of their
-//!    Douglas–Peucker polygon: exact to the mask, at the cost of more segments.
+//!    Douglas–Peucker polygon and held at every pinch (a pixel corner where two
+//!    foreground pixels touch diagonally, a point of its own): exact to the mask, at the
+//!    cost of more segments.
 
 use crate::breaks::{find_breaks, Break, BreakOptions, BreakReason, SegmentedContour};
 use crate::contour::{Extraction, PixelTrace};
@@ -250,13 +252,38 @@ fn corners_kept(contour: &FittedContour) -> SegmentedContour {
     seg
 }
 
+/// Indices of the pinches among pixel-edge midpoints (see `contour::PixelTrace::Raw`):
+/// the points on a pixel corner (both coordinates whole; a midpoint has one half) where
+/// the outline turns sharply.
+fn pinches(points: &[crate::geom::Point]) -> Vec<usize> {
+    let n = points.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    (0..n)
+        .filter(|&k| {
+            let p = points[k];
+            if p.x.fract() != 0.0 || p.y.fract() != 0.0 {
+                return false;
+            }
+            let (a, b) = (p - points[(k + n - 1) % n], points[(k + 1) % n] - p);
+            // A turn of more than 45°.
+            a.dot(b) < std::f64::consts::FRAC_1_SQRT_2 * a.length() * b.length()
+        })
+        .collect()
+}
+
 /// Pixel-edge midpoints cut into straight runs at the corners of their polygon.
 fn polygon_segmented(
     points: Vec<crate::geom::Point>,
     is_hole: bool,
     parent: Option<usize>,
 ) -> SegmentedContour {
-    let breaks = polygon_corners(&points, POLYGON_TOLERANCE)
+    let mut corners = polygon_corners(&points, POLYGON_TOLERANCE);
+    corners.extend(pinches(&points));
+    corners.sort_unstable();
+    corners.dedup();
+    let breaks = corners
         .into_iter()
         .map(|index| Break {
             index,

@@ -42,6 +42,12 @@ impl Crack {
         )
     }
 
+    /// The vertex the crack leaves, in image coordinates (a pixel corner).
+    #[inline]
+    pub(super) fn start(self) -> Point {
+        Point::new(f64::from(self.x) - 1.0, f64::from(self.y) - 1.0)
+    }
+
     /// Unit normal from the foreground pixel to the background pixel (the crack's left).
     #[inline]
     pub(super) fn normal(self) -> Point {
@@ -108,11 +114,11 @@ fn resolve_diagonals(mask: &mut Bits, width: usize, height: usize, bitmap: &Bitm
             };
             let (r0, r1) = (
                 r.saturating_sub(DIAGONAL_WINDOW - 1),
-                (r + 1 + DIAGONAL_WINDOW).min(height - 1),
+                (r + DIAGONAL_WINDOW).min(height - 1),
             );
             let (c0, c1) = (
                 c.saturating_sub(DIAGONAL_WINDOW - 1),
-                (c + 1 + DIAGONAL_WINDOW).min(width - 1),
+                (c + DIAGONAL_WINDOW).min(width - 1),
             );
             let (mut ink, mut all) = (0, 0);
             for rr in r0..=r1 {
@@ -245,6 +251,18 @@ impl PaddedMask {
             && x < self.width
             && y < self.height
             && self.foreground.get((y * self.width + x) as usize)
+    }
+
+    /// True when the crack leaves a *pinch*: a vertex where two foreground pixels touch
+    /// only at their corners (and two background pixels across the other diagonal), so
+    /// that the border passes it twice, or two borders meet there.
+    pub(super) fn leaves_pinch(&self, crack: Crack) -> bool {
+        let (x, y) = (i64::from(crack.x), i64::from(crack.y));
+        let nw = self.is_foreground((x - 1, y - 1));
+        let ne = self.is_foreground((x, y - 1));
+        let sw = self.is_foreground((x - 1, y));
+        let se = self.is_foreground((x, y));
+        nw == se && ne == sw && nw != ne
     }
 
     /// Follows the crack loop that starts by leaving vertex `start` in direction `dir`,
@@ -460,11 +478,11 @@ mod tests {
                         };
                         let (r0, r1) = (
                             r - (DIAGONAL_WINDOW - 1).min(r),
-                            (r + 1 + DIAGONAL_WINDOW).min(ph - 1),
+                            (r + DIAGONAL_WINDOW).min(ph - 1),
                         );
                         let (c0, c1) = (
                             c - (DIAGONAL_WINDOW - 1).min(c),
-                            (c + 1 + DIAGONAL_WINDOW).min(pw - 1),
+                            (c + DIAGONAL_WINDOW).min(pw - 1),
                         );
                         let ink: usize = (r0..=r1)
                             .flat_map(|rr| (c0..=c1).map(move |cc| (cc, rr)))

@@ -231,7 +231,19 @@ impl Extraction {
     ) -> Option<Contour> {
         let b = self.borders.get(border)?;
         let points = match how {
-            PixelTrace::Raw => b.midpoints().collect(),
+            PixelTrace::Raw => {
+                // The pinches (pixels touching only at a corner) are points of their own,
+                // so that the outline is held at them and the pixels on either side stay
+                // apart (a checkerboard is cells, not diagonal stripes).
+                let mut points = Vec::with_capacity(b.cracks.len());
+                for &c in &b.cracks {
+                    if self.mask.leaves_pinch(c) {
+                        points.push(c.start());
+                    }
+                    points.push(c.mid());
+                }
+                points
+            }
             PixelTrace::Smoothed => {
                 let mut work = Workspace::default();
                 let fitted = work.bilevel_outline(&b.cracks, &self.mask);
