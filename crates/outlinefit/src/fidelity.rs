@@ -717,9 +717,12 @@ pub(crate) enum Repair {
 
 impl Repair {
     /// The next trace after this one for a trace at `tolerance`, `None` past the last.
-    pub(crate) fn next(self, tolerance: f64) -> Option<Repair> {
+    /// The tighter fits come only for a contour that left its data (`strayed`): one that
+    /// only sits beside a lost or invented region has data that a tighter fit would
+    /// follow as faithfully, and goes to the pixels.
+    pub(crate) fn next(self, tolerance: f64, strayed: bool) -> Option<Repair> {
         let tighter = |k: u8| {
-            if tighter_tolerance(tolerance, k).is_some() {
+            if strayed && tighter_tolerance(tolerance, k).is_some() {
                 Repair::Tighter(k)
             } else {
                 Repair::PixelSmoothed
