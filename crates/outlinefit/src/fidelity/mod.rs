@@ -19,20 +19,23 @@
 //!    crosses the pixel. Far pixels are grouped into 8-connected
 //!    regions; a region larger than max(`--min-area`, 2) px² is a lost or invented part
 //!    (smaller ones are specks that `--min-area` drops on purpose).
-//! 3. **Dense disagreement**: the disagreeing pixels that are not far are counted per
-//!    tile of [`TILE`] px; a tile where more than [`DENSE_SHARE`] of the pixels (times
-//!    the far distance) disagree is wrong in bulk, though every pixel lies near an
-//!    outline (a checkerboard drawn as diagonal stripes), and its group of such tiles is
-//!    a region that fails the check.
+//! 3. **Dense disagreement** (`dense`): the disagreeing pixels that are not far are
+//!    counted per tile of [`dense::TILE`] px; a tile where more than
+//!    [`dense::DENSE_SHARE`] of the pixels (times the far distance) disagree is wrong in
+//!    bulk, though every pixel lies near an outline (a checkerboard drawn as diagonal
+//!    stripes), and its group of such tiles is a region that fails the check.
 //!
 //! [`crate::trace_bitmap`] repairs what fails (see `repair`) and reports the final check
 //! in [`Fidelity`].
+
+mod dense;
 
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::{distance_to_closed_polyline, floor_i64, segment_distance, Point};
 use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::raster::Bitmap;
+use dense::{dense_regions, UNDECIDED};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashSet;
@@ -615,87 +618,6 @@ pub(crate) fn check(
         regions,
         largest,
     }
-}
-
-/// Side (px) of the tiles in which dense disagreement is counted.
-const TILE: usize = 8;
-
-/// Share of a tile's pixels that may disagree with the drawn outline near it, per pixel
-/// of [`Limits::far`]: traces of bilevel glyphs, icons and stress shapes on the
-/// development corpus disagree at up to 8 pixel centres of an 8 × 8 tile (where an edge
-/// runs through a row of centres, each falls either way), a checkerboard of 2 × 2 or
-/// 3 × 3 cells drawn as diagonal stripes at 18 to 20.
-const DENSE_SHARE: f64 = 12.0 / 64.0;
-
-/// On grey levels, pixels whose coverage lies within this of the threshold are
-/// undecided (anti-aliased edge pixels) and never count as dense disagreement.
-const UNDECIDED: f64 = 0.25;
-
-/// Groups of 8-connected tiles of [`TILE`] px in which more than [`DENSE_SHARE`] ×
-/// `far` of the pixels disagree near the outline (`near`: their indices), as the
-/// disagreeing pixels of each group: where pixels are wrong in bulk though none lies far
-/// from an outline (a checkerboard drawn as stripes: every pixel is within 1 px of one).
-fn dense_regions(near: &[u32], w: usize, h: usize, far: f64) -> Vec<Vec<u32>> {
-    if near.is_empty() {
-        return Vec::new();
-    }
-    let (tw, th) = (w.div_ceil(TILE), h.div_ceil(TILE));
-    let tile_of = |p: u32| {
-        let (c, r) = (p as usize % w, p as usize / w);
-        (r / TILE) * tw + c / TILE
-    };
-    let mut count: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
-    for &p in near {
-        *count.entry(tile_of(p)).or_default() += 1;
-    }
-    let dense: HashSet<usize> = count
-        .iter()
-        .filter(|&(&t, &n)| {
-            let (c, r) = (t % tw, t / tw);
-            let pixels = (TILE.min(w - c * TILE) * TILE.min(h - r * TILE)) as f64;
-            n as f64 > DENSE_SHARE * pixels * far
-        })
-        .map(|(&t, _)| t)
-        .collect();
-    if dense.is_empty() {
-        return Vec::new();
-    }
-    // Connected groups of dense tiles, in tile order.
-    let mut group_of: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
-    let mut order: Vec<usize> = dense.iter().copied().collect();
-    order.sort_unstable();
-    let mut groups = 0;
-    for &seed in &order {
-        if group_of.contains_key(&seed) {
-            continue;
-        }
-        group_of.insert(seed, groups);
-        let mut stack = vec![seed];
-        while let Some(t) = stack.pop() {
-            let (c, r) = ((t % tw) as i64, (t / tw) as i64);
-            for dr in -1..=1 {
-                for dc in -1..=1 {
-                    let (cc, rr) = (c + dc, r + dr);
-                    if cc < 0 || rr < 0 || cc >= tw as i64 || rr >= th as i64 {
-                        continue;
-                    }
-                    let u = rr as usize * tw + cc as usize;
-                    if dense.contains(&u) && !group_of.contains_key(&u) {
-                        group_of.insert(u, groups);
-                        stack.push(u);
-                    }
-                }
-            }
-        }
-        groups += 1;
-    }
-    let mut out = vec![Vec::new(); groups];
-    for &p in near {
-        if let Some(&g) = group_of.get(&tile_of(p)) {
-            out[g].push(p);
-        }
-    }
-    out
 }
 
 /// How far the repair has gone with one contour.
