@@ -28,12 +28,15 @@
 //!   neighbouring blocks whose paper levels differ by at most [`SMOOTH_STEP`]: light
 //!   changes smoothly, while a filled shape's edge is a jump from paper to ink. At
 //!   least [`UNEVEN_BLOCKS`] of the blocks (and two) must be such, so that a soft shadow
-//!   in one corner keeps the global threshold, and ink must lie on that paper somewhere
+//!   in one corner keeps the global threshold; in a colour image only grey blocks count
+//!   (mean chroma at most [`PAPER_CHROMA`]: lit paper is grey, the flat colours of a
+//!   logo are not); and ink must lie on that paper somewhere
 //!   (a block with a sample [`INK_CONTRAST`] darker than its paper): a smooth ramp with
 //!   nothing on it is a drawing, not a lit page. Images traced from their alpha channel
 //!   are never flattened (alpha is not lit).
 
 use super::levels::{self, Levels};
+use image::{DynamicImage, GenericImageView};
 use std::collections::VecDeque;
 
 /// How an image is thresholded.
@@ -60,6 +63,9 @@ const SMOOTH_STEP: f32 = 0.1;
 const UNEVEN_BLOCKS: f64 = 0.02;
 /// The paper's percentile within a block.
 const PAPER_PERCENTILE: f64 = 0.10;
+/// Largest mean chroma of a block that counts as paper (a scan's or a photo's tinted
+/// paper stays well below; the flat green of a logo is about 0.5).
+const PAPER_CHROMA: f32 = 0.12;
 /// Coverage above the paper's that marks ink in a block.
 const INK_CONTRAST: f32 = 0.3;
 
@@ -149,9 +155,30 @@ impl PaperMap {
         self.paper = out;
     }
 
+    /// The mean chroma (largest minus smallest of R, G, B, on [0, 1]) of every block of
+    /// `img`, from the same sample grid as the paper levels.
+    pub(super) fn block_chroma(&self, img: &DynamicImage) -> Vec<f32> {
+        let (w, h) = (img.width() as usize, img.height() as usize);
+        let step = (self.block / 16).max(1);
+        let mut sum = vec![(0.0f32, 0u32); self.cols * self.rows];
+        for y in (0..h).step_by(step) {
+            for x in (0..w).step_by(step) {
+                let [r, g, b, _] = img.get_pixel(x as u32, y as u32).0;
+                let chroma = f32::from(r.max(g).max(b) - r.min(g).min(b)) / 255.0;
+                let cell = &mut sum[(y / self.block) * self.cols + x / self.block];
+                cell.0 += chroma;
+                cell.1 += 1;
+            }
+        }
+        sum.into_iter()
+            .map(|(s, n)| if n == 0 { 0.0 } else { s / n as f32 })
+            .collect()
+    }
+
     /// True when, at global threshold `threshold`, large areas of paper would be ink
-    /// (the rule of the module docs).
-    pub(super) fn is_uneven(&self, threshold: f64) -> bool {
+    /// (the rule of the module docs). `chroma` (per block, for a colour image) leaves
+    /// out coloured blocks: lit paper is grey, a flat colour of a drawing is not.
+    pub(super) fn is_uneven(&self, threshold: f64, chroma: Option<&[f32]>) -> bool {
         let t = threshold as f32;
         let n = self.paper.len();
         // Blocks reached from clearly light paper through smooth steps.
@@ -177,7 +204,8 @@ impl PaperMap {
                 }
             }
         }
-        let dark_paper = || (0..n).filter(|&i| reached[i] && self.paper[i] >= t);
+        let neutral = |i: usize| chroma.is_none_or(|c| c[i] <= PAPER_CHROMA);
+        let dark_paper = || (0..n).filter(|&i| reached[i] && self.paper[i] >= t && neutral(i));
         let count = dark_paper().count();
         count >= 2 && count as f64 >= UNEVEN_BLOCKS * n as f64 && dark_paper().any(|i| self.ink[i])
     }
@@ -247,7 +275,7 @@ mod tests {
         let page = lit_page(w, h, 0.0, 0.7);
         let cov = levels_of(&page);
         let map = PaperMap::new(&cov, w, h);
-        assert!(map.is_uneven(0.5));
+        assert!(map.is_uneven(0.5, None));
         let flat = map.flatten(&cov, w, h);
         let mut row = vec![0.0; w];
         for y in 0..h {
@@ -265,10 +293,32 @@ mod tests {
         }
     }
 
+    /// The gradient page in green instead of grey is a drawing's colour, not lit paper.
+    #[test]
+    fn coloured_paper_is_not_lit_paper() {
+        let (w, h) = (400, 300);
+        let page = lit_page(w, h, 0.0, 0.7);
+        let cov = levels_of(&page);
+        let map = PaperMap::new(&cov, w, h);
+        let tint = |green: f32| {
+            let img = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
+                let lum = 255.0 * (1.0 - page[y as usize * w + x as usize]);
+                image::Rgb([
+                    (lum * (1.0 - green)) as u8,
+                    lum as u8,
+                    (lum * (1.0 - green)) as u8,
+                ])
+            });
+            DynamicImage::ImageRgb8(img)
+        };
+        assert!(map.is_uneven(0.5, Some(&map.block_chroma(&tint(0.0)))));
+        assert!(!map.is_uneven(0.5, Some(&map.block_chroma(&tint(0.6)))));
+    }
+
     #[test]
     fn even_light_and_filled_shapes_keep_the_global_threshold() {
         let (w, h) = (400, 300);
-        assert!(!PaperMap::new(&levels_of(&lit_page(w, h, 0.05, 0.15)), w, h).is_uneven(0.5));
+        assert!(!PaperMap::new(&levels_of(&lit_page(w, h, 0.05, 0.15)), w, h).is_uneven(0.5, None));
         // A black disk filling much of a white page: its edge is a jump, not light.
         let disk: Vec<f32> = (0..w * h)
             .map(|i| {
@@ -276,9 +326,9 @@ mod tests {
                 f32::from(u8::from(x * x + y * y < 120.0 * 120.0))
             })
             .collect();
-        assert!(!PaperMap::new(&levels_of(&disk), w, h).is_uneven(0.5));
+        assert!(!PaperMap::new(&levels_of(&disk), w, h).is_uneven(0.5, None));
         // A smooth ramp with nothing on it is a drawing.
         let ramp: Vec<f32> = (0..w * h).map(|i| (i % w) as f32 / w as f32).collect();
-        assert!(!PaperMap::new(&levels_of(&ramp), w, h).is_uneven(0.5));
+        assert!(!PaperMap::new(&levels_of(&ramp), w, h).is_uneven(0.5, None));
     }
 }

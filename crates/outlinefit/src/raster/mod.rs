@@ -750,6 +750,9 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
         }
         other => other,
     };
+    // A colour image is kept for the lighting rule, which asks whether dark "paper" is
+    // grey (the grey images' buffers become the levels and are not needed).
+    let mut colour = None;
     let coverage = match img {
         Cow::Owned(DynamicImage::ImageLuma8(b)) => {
             Levels::bytes(first_pixels(b.into_raw(), pixels), |v| {
@@ -764,6 +767,9 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
         other => {
             let mut levels = Vec::with_capacity(pixels as usize);
             for_each_luma_alpha(&other, |l, a| levels.push(levels::quantise(value(l, a))));
+            if other.color().has_color() {
+                colour = Some(other);
+            }
             Levels::quantised(levels)
         }
     };
@@ -781,9 +787,13 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
         _ if from_alpha => None,
         ThresholdMode::Global => None,
         ThresholdMode::Local => Some(lighting::PaperMap::new(&coverage, w, h)),
-        ThresholdMode::Auto => Some(lighting::PaperMap::new(&coverage, w, h))
-            .filter(|map| map.is_uneven(threshold.unwrap_or_else(|| otsu_threshold(&coverage)))),
+        ThresholdMode::Auto => Some(lighting::PaperMap::new(&coverage, w, h)).filter(|map| {
+            let chroma = colour.as_deref().map(|img| map.block_chroma(img));
+            let global = threshold.unwrap_or_else(|| otsu_threshold(&coverage));
+            map.is_uneven(global, chroma.as_deref())
+        }),
     };
+    drop(colour);
     let local = map.is_some();
     let coverage = match map {
         Some(map) => map.flatten(&coverage, w, h),
