@@ -1,6 +1,7 @@
 //! Dense disagreement: pixels wrong in bulk near an outline, counted per tile (see the
 //! parent module's third step).
 
+use super::groups_8;
 use std::collections::{HashMap, HashSet};
 
 /// Side (px) of the tiles in which dense disagreement is counted.
@@ -48,34 +49,11 @@ pub(super) fn dense_regions(near: &[u32], w: usize, h: usize, far: f64) -> Vec<V
     }
     // Connected groups of dense tiles, in tile order.
     let mut group_of: HashMap<usize, usize> = HashMap::new();
-    let mut order: Vec<usize> = dense.iter().copied().collect();
-    order.sort_unstable();
-    let mut groups = 0;
-    for &seed in &order {
-        if group_of.contains_key(&seed) {
-            continue;
-        }
-        group_of.insert(seed, groups);
-        let mut stack = vec![seed];
-        while let Some(t) = stack.pop() {
-            let (c, r) = ((t % tw) as i64, (t / tw) as i64);
-            for dr in -1..=1 {
-                for dc in -1..=1 {
-                    let (cc, rr) = (c + dc, r + dr);
-                    if cc < 0 || rr < 0 || cc >= tw as i64 || rr >= th as i64 {
-                        continue;
-                    }
-                    let u = rr as usize * tw + cc as usize;
-                    if dense.contains(&u) && !group_of.contains_key(&u) {
-                        group_of.insert(u, groups);
-                        stack.push(u);
-                    }
-                }
-            }
-        }
-        groups += 1;
+    let groups = groups_8(&dense, tw, th);
+    for (g, tiles) in groups.iter().enumerate() {
+        group_of.extend(tiles.iter().map(|&t| (t, g)));
     }
-    let mut out = vec![Vec::new(); groups];
+    let mut out = vec![Vec::new(); groups.len()];
     for &p in near {
         if let Some(&g) = group_of.get(&tile_of(p)) {
             out[g].push(p);

@@ -544,7 +544,7 @@ pub(crate) fn check(
         }
         out
     };
-    let far: HashSet<u32> = far_pixels.into_iter().collect();
+    let far: HashSet<usize> = far_pixels.into_iter().map(|p| p as usize).collect();
     let mut regions = Vec::new();
     let mut largest: (f64, Option<[u32; 4]>) = (0.0, None);
     // Records a region of disagreement: the largest one's box, and the contours
@@ -580,32 +580,8 @@ pub(crate) fn check(
             });
         }
     };
-    let mut seen: HashSet<u32> = HashSet::new();
-    let mut sorted: Vec<u32> = far.iter().copied().collect();
-    sorted.sort_unstable();
-    for &seed in &sorted {
-        if !seen.insert(seed) {
-            continue;
-        }
-        let mut pixels = vec![seed];
-        let mut k = 0;
-        while k < pixels.len() {
-            let p = pixels[k] as usize;
-            let (col, row) = ((p % w) as i64, (p / w) as i64);
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let (c, r) = (col + dx, row + dy);
-                    if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
-                        continue;
-                    }
-                    let q = (r as usize * w + c as usize) as u32;
-                    if far.contains(&q) && seen.insert(q) {
-                        pixels.push(q);
-                    }
-                }
-            }
-            k += 1;
-        }
+    for group in groups_8(&far, w, h) {
+        let pixels: Vec<u32> = group.into_iter().map(|p| p as u32).collect();
         let counts = pixels.len() as f64 > limits.region;
         record(pixels, counts);
     }
@@ -618,6 +594,37 @@ pub(crate) fn check(
         regions,
         largest,
     }
+}
+
+/// The 8-connected groups of `cells` (indices row × `w` + column on a `w × h` grid), in
+/// the order of their smallest cell, each from its smallest cell outwards.
+fn groups_8(cells: &HashSet<usize>, w: usize, h: usize) -> Vec<Vec<usize>> {
+    let mut seeds: Vec<usize> = cells.iter().copied().collect();
+    seeds.sort_unstable();
+    let mut seen: HashSet<usize> = HashSet::new();
+    let mut groups = Vec::new();
+    for seed in seeds {
+        if !seen.insert(seed) {
+            continue;
+        }
+        let mut group = vec![seed];
+        let mut k = 0;
+        while k < group.len() {
+            let (col, row) = ((group[k] % w) as i64, (group[k] / w) as i64);
+            for (c, r) in (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (col + dx, row + dy))) {
+                if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
+                    continue;
+                }
+                let q = r as usize * w + c as usize;
+                if cells.contains(&q) && seen.insert(q) {
+                    group.push(q);
+                }
+            }
+            k += 1;
+        }
+        groups.push(group);
+    }
+    groups
 }
 
 /// How far the repair has gone with one contour.
