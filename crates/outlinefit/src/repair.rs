@@ -104,7 +104,7 @@ pub(crate) fn check_and_repair(
             let step = if !bad.is_empty() && (!corners_tried[i] || level[i] == Repair::PixelRaw) {
                 Repair::Corners
             } else {
-                match level[i].next(tolerance, !bad.is_empty()) {
+                match level[i].next(tolerance) {
                     Some(next) => next,
                     None => continue,
                 }
