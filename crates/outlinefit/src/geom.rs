@@ -314,6 +314,41 @@ pub(crate) fn cyclic_run(points: &[Point], a: usize, b: usize, out: &mut Vec<Poi
     }
 }
 
+/// The 8-connected groups of `cells` (indices row × `w` + column on a `w × h` grid), in
+/// the order of their smallest cell, each from its smallest cell outwards.
+pub(crate) fn groups_8(
+    cells: &std::collections::HashSet<usize>,
+    w: usize,
+    h: usize,
+) -> Vec<Vec<usize>> {
+    let mut seeds: Vec<usize> = cells.iter().copied().collect();
+    seeds.sort_unstable();
+    let mut seen: std::collections::HashSet<usize> = std::collections::HashSet::new();
+    let mut groups = Vec::new();
+    for seed in seeds {
+        if !seen.insert(seed) {
+            continue;
+        }
+        let mut group = vec![seed];
+        let mut k = 0;
+        while k < group.len() {
+            let (col, row) = ((group[k] % w) as i64, (group[k] / w) as i64);
+            for (c, r) in (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (col + dx, row + dy))) {
+                if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
+                    continue;
+                }
+                let q = r as usize * w + c as usize;
+                if cells.contains(&q) && seen.insert(q) {
+                    group.push(q);
+                }
+            }
+            k += 1;
+        }
+        groups.push(group);
+    }
+    groups
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,7 +1,7 @@
 //! Dense disagreement: pixels wrong in bulk near an outline, counted per tile (see the
 //! parent module's third step).
 
-use super::groups_8;
+use crate::geom::groups_8;
 use std::collections::{HashMap, HashSet};
 
 /// Side (px) of the tiles in which dense disagreement is counted.

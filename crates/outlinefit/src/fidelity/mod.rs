@@ -32,7 +32,7 @@ mod dense;
 
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
-use crate::geom::{distance_to_closed_polyline, floor_i64, segment_distance, Point};
+use crate::geom::{distance_to_closed_polyline, floor_i64, groups_8, segment_distance, Point};
 use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::raster::Bitmap;
 use dense::{dense_regions, UNDECIDED};
@@ -594,37 +594,6 @@ pub(crate) fn check(
         regions,
         largest,
     }
-}
-
-/// The 8-connected groups of `cells` (indices row × `w` + column on a `w × h` grid), in
-/// the order of their smallest cell, each from its smallest cell outwards.
-fn groups_8(cells: &HashSet<usize>, w: usize, h: usize) -> Vec<Vec<usize>> {
-    let mut seeds: Vec<usize> = cells.iter().copied().collect();
-    seeds.sort_unstable();
-    let mut seen: HashSet<usize> = HashSet::new();
-    let mut groups = Vec::new();
-    for seed in seeds {
-        if !seen.insert(seed) {
-            continue;
-        }
-        let mut group = vec![seed];
-        let mut k = 0;
-        while k < group.len() {
-            let (col, row) = ((group[k] % w) as i64, (group[k] / w) as i64);
-            for (c, r) in (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (col + dx, row + dy))) {
-                if c < 0 || r < 0 || c >= w as i64 || r >= h as i64 {
-                    continue;
-                }
-                let q = r as usize * w + c as usize;
-                if cells.contains(&q) && seen.insert(q) {
-                    group.push(q);
-                }
-            }
-            k += 1;
-        }
-        groups.push(group);
-    }
-    groups
 }
 
 /// How far the repair has gone with one contour.
