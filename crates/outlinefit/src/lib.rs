@@ -43,7 +43,7 @@
 //! (the curve kernel: rational and polynomial cubics, Bernstein and Wang–Ball machinery),
 //! [`optim`] (the papers' metaheuristics behind one trait), [`fit`] (refitting a
 //! segmentation with them), [`merge`] (merging two disk Wang–Ball curves), [`report`]
-//! (JSON and CSV), [`io`] (atomic output files), [`svg_writer`] (the number and path
+//! (JSON and CSV), [`progress`] (a trace's progress, for a display), [`io`] (atomic output files), [`svg_writer`] (the number and path
 //! formatting every picture shares) and [`quad`] (Gauss–Legendre quadrature).
 //!
 //! The crate has no command-line or plotting dependency: the `outlinefit` program is the
@@ -63,6 +63,7 @@ mod linalg;
 pub mod merge;
 pub mod optim;
 mod param;
+pub mod progress;
 pub mod quad;
 mod raster;
 mod repair;
@@ -79,7 +80,9 @@ pub use crate::fit::placement::BreakPlacement;
 pub use crate::fit::{FittedContour, FittedSegment, Joint, Method, Search, SegmentError};
 pub use crate::geom::{Bounds, Point};
 pub use crate::raster::{AlphaRule, Bitmap, RasterOptions, ThresholdMode, ThresholdScale};
-pub use crate::trace::{trace_bitmap, trace_file, Config, ImageInfo, TraceResult};
+pub use crate::trace::{
+    trace_bitmap, trace_bitmap_with_progress, trace_file, Config, ImageInfo, TraceResult,
+};
 
 /// The version of this crate, recorded in reports.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

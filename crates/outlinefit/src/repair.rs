@@ -16,19 +16,52 @@
 //!    Douglas–Peucker polygon and held at every pinch (a pixel corner where two
 //!    foreground pixels touch diagonally, a point of its own): exact to the mask, at the
 //!    cost of more segments.
+//!
+//! The work is bounded and goes where the trouble is:
+//! - The corners step refits only the runs (corner to corner) that its new corners cut;
+//!   a tighter fit of a contour of [`LOCAL_POINTS`] or more only the runs beside what went
+//!   wrong. The other runs keep their segments (`fit::lsq::refit_runs`).
+//! - At most [`LADDER_CONTOURS`] contours take the steps between the corners and the
+//!   pixel polygon, and those steps refit at most [`LADDER_WORK`] times the data points
+//!   the trace fitted. An ordinary image never meets either bound; on noise or a speck
+//!   field, where thousands of contours fail at once, the rest go straight to the pixel
+//!   polygon, which is exact to the mask.
+//! - On a bilevel image the first trace already follows the pixels (the bilevel
+//!   regression), so the pixel trace of step 3 is skipped.
+//! - The check after a round measures again only the data points of the contours it
+//!   changed (`fidelity::check_again`).
 
 use crate::breaks::{find_breaks, Break, BreakOptions, BreakReason, SegmentedContour};
 use crate::contour::{Extraction, PixelTrace};
 use crate::error::Result;
-use crate::fidelity::{check, polygon_corners, tighter_tolerance, Fidelity, Limits, Repair};
+use crate::fidelity::{
+    check, check_again, polygon_corners, tighter_tolerance, Fidelity, Limits, Repair,
+};
+use crate::fit::lsq::{fit_contour, refit_runs, LsqOptions};
 use crate::fit::{FittedContour, JointKind};
 use crate::merge::outline::MergedCurve;
+use crate::progress::{Progress, Stage, CHECK_ROUNDS};
 use crate::raster::Bitmap;
-use std::collections::{BTreeSet, HashSet};
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 /// Rounds of check and repair before giving up (enough for every step of [`Repair`]
 /// with corners added before each).
-const MAX_ROUNDS: usize = 12;
+const MAX_ROUNDS: usize = CHECK_ROUNDS as usize - 1;
+
+/// Data points the steps before the pixel polygon may refit, in all, as a multiple of the
+/// points the trace fitted (see the module's documentation).
+const LADDER_WORK: f64 = 3.0;
+
+/// Contours that may take the steps between the corners and the pixel polygon: an
+/// ordinary image has a few dozen to repair (a 600 dpi page of text: 26 of 2 932), noise
+/// or a speck field thousands, whose pixel-scale detail only the pixel polygon follows.
+const LADDER_CONTOURS: usize = 256;
+
+/// Data points of a contour from which a tighter fit refits only the runs (corner to
+/// corner) where something went wrong; a smaller contour is refitted whole, which also
+/// tightens what was nearly wrong (an anti-aliased comb's teeth come out closer to the
+/// true outline than when each is refitted alone).
+const LOCAL_POINTS: usize = 50_000;
 
 /// Tolerance (px) of the pixel polygon's corners: the midpoints of a digital straight line
 /// lie within half a pixel of it.
@@ -50,10 +83,10 @@ pub(crate) struct RepairInput<'a> {
     pub(crate) break_options: &'a BreakOptions,
     /// The trace's `--tolerance` (px).
     pub(crate) tolerance: f64,
-    /// Fits one segmented contour as the trace does (its second argument is the
-    /// contour's index, its third the tolerance of a repair, which the trace fits by
-    /// `lsq` alone; `None` for the trace's own fit).
-    pub(crate) fit: &'a dyn Fn(SegmentedContour, usize, Option<f64>) -> Result<FittedContour>,
+    /// Record wall times in the refitted segments.
+    pub(crate) timings: bool,
+    /// Told of each round of the check.
+    pub(crate) progress: &'a dyn Progress,
 }
 
 /// Checks `contours` (drawn with their `merged` curves, one list per contour) against
@@ -71,7 +104,8 @@ pub(crate) fn check_and_repair(
         min_area,
         break_options,
         tolerance,
-        fit,
+        timings,
+        progress,
     } = input;
     let mut level = vec![Repair::None; contours.len()];
     let mut corners_tried = vec![false; contours.len()];
@@ -79,9 +113,15 @@ pub(crate) fn check_and_repair(
     let mut repaired: HashSet<usize> = HashSet::new();
     let mut restored = 0usize;
     let excused = extraction.dropped_pixels(min_area, bitmap.width());
+    let traced_points: usize = contours.iter().map(|c| c.points.len()).sum();
+    let mut ladder_left = LADDER_WORK * traced_points as f64;
+    let mut slots_left = LADDER_CONTOURS;
     // One list of merged curves per contour: a contour refitted here is drawn by its own
     // segments.
     merged.resize_with(contours.len(), Vec::new);
+    // The round under way is counted as it starts.
+    progress.stage(Stage::Checking, CHECK_ROUNDS);
+    progress.advance(1);
     let mut findings = check(bitmap, contours, merged, limits, &excused);
     for _ in 0..MAX_ROUNDS {
         if findings.held() {
@@ -96,26 +136,88 @@ pub(crate) fn check_and_repair(
         for region in &findings.regions {
             targets.extend(region.near_contours.iter().copied());
         }
+        // Per target contour, the data points where something went wrong: its bad
+        // points and the starts of the segments nearest to a region (`None`: all of it).
+        let mut trouble: HashMap<usize, Option<Vec<usize>>> = HashMap::new();
+        for region in &findings.regions {
+            for &(i, segment) in &region.near_segments {
+                let entry = trouble.entry(i).or_insert_with(|| Some(Vec::new()));
+                match (
+                    segment.and_then(|k| contours[i].segments.get(k)),
+                    entry.as_mut(),
+                ) {
+                    (Some(s), Some(list)) => list.push(s.start),
+                    _ => *entry = None,
+                }
+            }
+        }
         let mut progressed = false;
+        // Contours refitted or added in this round.
+        let mut changed: HashSet<usize> = HashSet::new();
         for i in targets {
             let bad = &findings.bad_points[i];
             // Where the path left its data, first add corners there (repeatable on the
             // last step); otherwise trace the contour again, closer to the pixels.
-            let step = if !bad.is_empty() && (!corners_tried[i] || level[i] == Repair::PixelRaw) {
+            // Once the ladder's work is spent, what still fails goes to the last step.
+            let spent = ladder_left <= 0.0 || (level[i] == Repair::None && slots_left == 0);
+            let step = if !bad.is_empty()
+                && ((!corners_tried[i] && !spent) || level[i] == Repair::PixelRaw)
+            {
                 Repair::Corners
             } else {
-                match level[i].next(tolerance) {
+                match level[i].next(tolerance, bitmap.is_bilevel()) {
+                    Some(_) if spent => Repair::PixelRaw,
                     Some(next) => next,
                     None => continue,
                 }
             };
-            let mut fit_tolerance = tolerance;
+            // The runs between corners where something went wrong: a bad point belongs
+            // to the runs on both sides of it.
+            let n = contours[i].points.len();
+            let mut at: Option<Vec<usize>> = trouble.get(&i).cloned().unwrap_or_default();
+            if let Some(list) = at.as_mut() {
+                list.extend(bad.iter().flat_map(|&k| [k, (k + n - 1) % n]));
+                list.sort_unstable();
+            }
+            // True when the run from corner a to corner b is to be fitted tighter: every
+            // run of a contour below LOCAL_POINTS, otherwise a run with a point of
+            // trouble in [a, b) (cyclically).
+            let whole_tighter = n < LOCAL_POINTS;
+            let dirty = |a: usize, b: usize| {
+                whole_tighter
+                    || at.as_ref().is_none_or(|list| {
+                        let from = list.partition_point(|&t| t < a);
+                        if a < b {
+                            list.get(from).is_some_and(|&t| t < b)
+                        } else {
+                            from < list.len() || list.first().is_some_and(|&t| t < b)
+                        }
+                    })
+            };
+            let options = |tolerance: f64| lsq_options(tolerance, limits.bound, timings);
+            // A contour's own tolerance: the repair's tighter one once it has reached it.
+            let own = match level[i] {
+                Repair::Tighter(k) => tighter_tolerance(tolerance, k).unwrap_or(tolerance),
+                _ => tolerance,
+            };
             let seg = match step {
                 Repair::None => continue,
-                Repair::Corners => with_corners(&contours[i], bad),
+                Repair::Corners => {
+                    // Only the runs that the new corners cut are fitted again.
+                    let seg = with_corners(&contours[i], bad);
+                    if level[i] != Repair::PixelRaw {
+                        work(&mut ladder_left, &seg, &contours[i], &|_, _| false);
+                    }
+                    contours[i] = refit_runs(&contours[i], &seg, &|_, _| false, &options(own));
+                    None
+                }
                 Repair::Tighter(k) => {
-                    fit_tolerance = tighter_tolerance(tolerance, k).unwrap_or(tolerance);
-                    corners_kept(&contours[i])
+                    // Only the runs where something went wrong are fitted tighter.
+                    let tighter = tighter_tolerance(tolerance, k).unwrap_or(tolerance);
+                    let seg = corners_kept(&contours[i]);
+                    work(&mut ladder_left, &seg, &contours[i], &dirty);
+                    contours[i] = refit_runs(&contours[i], &seg, &dirty, &options(tighter));
+                    None
                 }
                 Repair::PixelSmoothed | Repair::PixelRaw => {
                     let how = if step == Repair::PixelRaw {
@@ -127,30 +229,43 @@ pub(crate) fn check_and_repair(
                     else {
                         continue;
                     };
-                    if step == Repair::PixelRaw {
+                    Some(if step == Repair::PixelRaw {
                         polygon_segmented(c.points, c.is_hole, c.parent)
                     } else {
                         find_breaks(&c, break_options)
-                    }
+                    })
                 }
             };
+            if let Some(seg) = seg {
+                if step == Repair::PixelSmoothed {
+                    ladder_left -= seg.points.len() as f64;
+                }
+                contours[i] = fit_contour(&seg, &options(tolerance));
+            }
+            if level[i] == Repair::None && step != Repair::Corners && step != Repair::PixelRaw {
+                slots_left = slots_left.saturating_sub(1);
+            }
             if step == Repair::Corners {
                 corners_tried[i] = true;
             } else {
                 level[i] = step;
                 corners_tried[i] = false;
             }
-            contours[i] = fit(seg, i, Some(fit_tolerance))?;
             merged[i].clear();
             repaired.insert(i);
+            changed.insert(i);
             progressed = true;
         }
         // Shapes and holes lost altogether: borders that touch a region and have no
         // contour.
         let mut lost: BTreeSet<usize> = BTreeSet::new();
-        let kept: HashSet<usize> = border_of.iter().copied().collect();
-        for region in &findings.regions {
-            let pixels: HashSet<u32> = region.pixels.iter().copied().collect();
+        if !findings.regions.is_empty() {
+            let kept: HashSet<usize> = border_of.iter().copied().collect();
+            let pixels: HashSet<u32> = findings
+                .regions
+                .iter()
+                .flat_map(|r| r.pixels.iter().copied())
+                .collect();
             for (b, border) in extraction.borders.iter().enumerate() {
                 if !kept.contains(&b)
                     && border.pixel_area() >= min_area
@@ -179,9 +294,10 @@ pub(crate) fn check_and_repair(
                 let Some(c) = extraction.pixel_contour(b, PixelTrace::Smoothed, parent) else {
                     continue;
                 };
-                let index = contours.len();
-                contours.push(fit(find_breaks(&c, break_options), index, Some(tolerance))?);
+                let options = lsq_options(tolerance, limits.bound, timings);
+                contours.push(fit_contour(&find_breaks(&c, break_options), &options));
                 merged.push(Vec::new());
+                changed.insert(contours.len() - 1);
                 border_of.push(b);
                 level.push(Repair::PixelSmoothed);
                 corners_tried.push(false);
@@ -192,7 +308,16 @@ pub(crate) fn check_and_repair(
         if !progressed {
             break;
         }
-        findings = check(bitmap, contours, merged, limits, &excused);
+        progress.advance(1);
+        let unchanged: Vec<bool> = (0..contours.len()).map(|i| !changed.contains(&i)).collect();
+        findings = check_again(
+            bitmap,
+            contours,
+            merged,
+            limits,
+            &excused,
+            Some((&findings, &unchanged)),
+        );
     }
     Ok(Fidelity {
         held: findings.held(),
@@ -206,6 +331,48 @@ pub(crate) fn check_and_repair(
         segments_over_tolerance: 0,
         worst_segment_distance: 0.0,
     })
+}
+
+/// The options of a repair's fit at `tolerance`: drawn within the trace's `bound`, as
+/// the SVG draws every segment, so that its pieces are counted and its cubics made once.
+fn lsq_options(tolerance: f64, bound: f64, timings: bool) -> LsqOptions {
+    LsqOptions {
+        export_bound: bound,
+        ..LsqOptions::for_tolerance(tolerance, timings)
+    }
+}
+
+/// Counts against the ladder's `left` work the data points of the runs of `seg` that
+/// [`refit_runs`] fits again: those that are not runs of `previous` or are `dirty`.
+fn work(
+    left: &mut f64,
+    seg: &SegmentedContour,
+    previous: &FittedContour,
+    dirty: &(dyn Fn(usize, usize) -> bool + Sync),
+) {
+    let n = seg.points.len();
+    let corners: Vec<usize> = seg
+        .breaks
+        .iter()
+        .filter(|b| b.kind == JointKind::Corner)
+        .map(|b| b.index)
+        .collect();
+    if corners.len() < 2 {
+        *left -= n as f64;
+        return;
+    }
+    let old: HashSet<usize> = previous
+        .joints
+        .iter()
+        .filter(|j| j.kind == JointKind::Corner)
+        .map(|j| j.index)
+        .collect();
+    for (r, &a) in corners.iter().enumerate() {
+        let b = corners[(r + 1) % corners.len()];
+        if !old.contains(&a) || !old.contains(&b) || dirty(a, b) {
+            *left -= ((b + n - a) % n + 1) as f64;
+        }
+    }
 }
 
 /// The contour's own points and joints, with a corner added at each of `bad`.
@@ -222,8 +389,13 @@ fn with_corners(contour: &FittedContour, bad: &[usize]) -> SegmentedContour {
             },
         })
         .collect();
+    let at: HashMap<usize, usize> = breaks
+        .iter()
+        .enumerate()
+        .map(|(k, b)| (b.index, k))
+        .collect();
     for &k in bad {
-        match breaks.iter_mut().find(|b| b.index == k) {
+        match at.get(&k).map(|&j| &mut breaks[j]) {
             Some(b) => {
                 b.kind = JointKind::Corner;
                 b.reason = BreakReason::Repair;

@@ -13,6 +13,7 @@ use crate::fit::{self, FittedContour, Method};
 use crate::merge;
 use crate::merge::outline::MergedCurve;
 use crate::optim;
+use crate::progress::{NoProgress, Progress, Stage};
 use crate::raster::{self, Bitmap, RasterOptions};
 use crate::repair;
 use serde::Serialize;
@@ -342,8 +343,19 @@ const PARALLEL_FIT_POINTS: usize = 4000;
 /// input and repaired where it lost or invented a part (`fidelity`); the verdict is in
 /// [`TraceResult::fidelity`].
 pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
+    trace_bitmap_with_progress(bitmap, config, &NoProgress)
+}
+
+/// [`trace_bitmap`], reporting its stages and the work done to `progress` (see
+/// [`crate::progress`]).
+pub fn trace_bitmap_with_progress(
+    bitmap: &Bitmap,
+    config: &Config,
+    progress: &dyn Progress,
+) -> Result<TraceResult> {
     config.validate()?;
     let started = Instant::now();
+    progress.stage(Stage::Borders, 0);
     let extraction = contour::extract_borders(
         bitmap,
         &ContourOptions {
@@ -363,18 +375,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
         degree: config.merge_degree,
         tolerance: config.tolerance,
     });
-    // A contour that the repair traces again (`repair`: at that tolerance) is fitted by
-    // `lsq` alone: the stages after it are what may have lost the shape, and `lsq` holds
-    // the tolerance.
-    let fit_one = |seg: SegmentedContour, i: usize, repair: Option<f64>| -> Result<FittedContour> {
-        if let Some(tolerance) = repair {
-            return Ok(if tolerance == config.tolerance {
-                fit::lsq::fit_contour(&seg, &lsq_options)
-            } else {
-                let options = fit::lsq::LsqOptions::for_tolerance(tolerance, config.timings);
-                fit::lsq::fit_contour(&seg, &options)
-            });
-        }
+    let fit_one = |seg: SegmentedContour, i: usize| -> Result<FittedContour> {
         let mut chain = fit::lsq::fit_contour(&seg, &lsq_options);
         if let Some(opts) = &placement_options {
             chain = fit::placement::optimize_contour(&chain, opts, i)?;
@@ -387,7 +388,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     // Merged curves come beside their contour (a repaired contour is drawn by its own
     // segments, see `repair`).
     let fit_indexed = |(i, c): (usize, &Contour)| -> Result<(FittedContour, Vec<MergedCurve>)> {
-        let fitted = fit_one(find_breaks(c, &break_options), i, None)?;
+        let fitted = fit_one(find_breaks(c, &break_options), i)?;
+        progress.advance(c.points.len() as u64);
         let merged = merge_options.as_ref().map_or_else(Vec::new, |opts| {
             merge::outline::merge_contour(&fitted, opts)
         });
@@ -401,6 +403,7 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
     // and the first error in contour order, are the same on any number of threads.
     let sizes = extraction.contours.iter().map(|c| c.points.len());
     let (points, largest) = sizes.fold((0, 0), |(sum, max), n| (sum + n, max.max(n)));
+    progress.stage(Stage::Fitting, points as u64);
     let results: Vec<Result<_>> = if points - largest >= PARALLEL_FIT_POINTS {
         use rayon::prelude::*;
         extraction
@@ -442,7 +445,8 @@ pub fn trace_bitmap(bitmap: &Bitmap, config: &Config) -> Result<TraceResult> {
             min_area: config.min_area,
             break_options: &break_options,
             tolerance: config.tolerance,
-            fit: &fit_one,
+            timings: config.timings,
+            progress,
         };
         let mut fidelity = repair::check_and_repair(input, &mut fitted, &mut merged)?;
         if meta_options.is_none() {

@@ -5,8 +5,11 @@ mod common;
 
 use outlinefit::fit::{reference_errors, refit_contour, RefitOptions};
 use outlinefit::optim::Algorithm;
+use outlinefit::progress::{Progress, Stage};
 use outlinefit::{to_svg, SvgOptions};
+use outlinefit::{trace_bitmap, trace_bitmap_with_progress, Bitmap};
 use outlinefit::{trace_file, BreakPlacement, Config, JointKind, Method, Search};
+use std::sync::Mutex;
 
 /// Every smooth joint is G1 to 1e-9 with a finite positive β, and the chain is closed: each
 /// segment ends exactly where the next starts.
@@ -346,4 +349,58 @@ fn overlay_shades_one_error_band_per_merged_curve() {
     .unwrap();
     let svg = to_overlay_svg(&plain, None, &OverlayOptions::default());
     assert!(!svg.contains("merged-envelopes"));
+}
+
+/// A [`Progress`] that writes down what it is told.
+#[derive(Default)]
+struct Recorder {
+    /// Each stage with its total and the work reported for it.
+    stages: Mutex<Vec<(Stage, u64, u64)>>,
+}
+
+impl Progress for Recorder {
+    fn stage(&self, stage: Stage, total: u64) {
+        self.stages.lock().unwrap().push((stage, total, 0));
+    }
+    fn advance(&self, done: u64) {
+        let mut stages = self.stages.lock().unwrap();
+        stages.last_mut().expect("work before a stage").2 += done;
+    }
+}
+
+/// The progress of a trace names every stage in order, accounts for every data point of
+/// the fit, counts the check's rounds, and does not change the result.
+#[test]
+fn progress_reports_every_stage_and_all_the_work() {
+    let config = Config::default();
+    for path in common::sample_paths() {
+        let bitmap = Bitmap::load(&path, &config.raster_options()).unwrap();
+        let recorder = Recorder::default();
+        let traced = trace_bitmap_with_progress(&bitmap, &config, &recorder).unwrap();
+        let stages = recorder.stages.into_inner().unwrap();
+        let order: Vec<Stage> = stages.iter().map(|s| s.0).collect();
+        assert_eq!(
+            order,
+            [Stage::Borders, Stage::Fitting, Stage::Checking],
+            "{}",
+            path.display()
+        );
+        let (_, total, done) = stages[1];
+        assert!(total > 0 && done == total, "{}", path.display());
+        let (_, most, rounds) = stages[2];
+        assert!(
+            rounds >= 1 && rounds <= most,
+            "{}: {rounds} rounds",
+            path.display()
+        );
+        let plain = trace_bitmap(&bitmap, &config).unwrap();
+        assert_eq!(plain.contours.len(), traced.contours.len());
+        for (a, b) in plain.contours.iter().zip(&traced.contours) {
+            let (pa, pb): (Vec<_>, Vec<_>) = (
+                a.segments.iter().map(|s| s.curve.points).collect(),
+                b.segments.iter().map(|s| s.curve.points).collect(),
+            );
+            assert_eq!(pa, pb, "{}", path.display());
+        }
+    }
 }

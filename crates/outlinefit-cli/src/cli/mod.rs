@@ -7,6 +7,7 @@ mod compare;
 mod merge;
 mod messages;
 mod output;
+mod progress;
 mod reduce;
 mod surface;
 mod trace;

@@ -5,10 +5,11 @@ use super::messages::{fidelity_problem, trace_warnings};
 use super::output::{
     check_distinct, default_svg_path, is_dash, not_regular, resolve_output, write_output,
 };
+use super::progress::TerminalProgress;
 use anyhow::{bail, Context};
 use clap::Args;
 use outlinefit::io::ensure_output_dir_exists;
-use outlinefit::{report, trace_bitmap, Bitmap};
+use outlinefit::{report, trace_bitmap_with_progress, Bitmap};
 use outlinefit::{to_overlay_svg, OverlayOptions};
 use outlinefit::{to_svg, SvgOptions};
 use std::io::Read;
@@ -132,6 +133,7 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         check_format(option, p)?;
     }
 
+    let progress = TerminalProgress::new();
     let bitmap = if from_stdin {
         let mut bytes = Vec::new();
         std::io::stdin()
@@ -142,7 +144,9 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     } else {
         Bitmap::load(&args.input, &config.raster_options())?
     };
-    let result = trace_bitmap(&bitmap, &config)?;
+    let result = trace_bitmap_with_progress(&bitmap, &config, &progress);
+    progress.finish();
+    let result = result?;
     let name = if from_stdin {
         "<stdin>".to_string()
     } else {

@@ -127,6 +127,8 @@ pub(crate) struct Findings {
     /// Per contour: indices of the data points beyond the deviation limit that are local
     /// maxima of the deviation (where a corner or a split is missing).
     pub(crate) bad_points: Vec<Vec<usize>>,
+    /// Per contour: the largest deviation of its data points.
+    pub(crate) worst: Vec<f64>,
     /// Regions above the limit.
     pub(crate) regions: Vec<Region>,
     /// Area and bounding box of the largest region (above the limit or not).
@@ -141,6 +143,9 @@ pub(crate) struct Region {
     /// Contours whose drawn outline passes within [`REGION_REACH`] px beyond the far
     /// limit of the region.
     pub(crate) near_contours: Vec<usize>,
+    /// The segments of those contours nearest to the region's pixels, as (contour,
+    /// segment), sorted; the segment is `None` where merged curves are drawn.
+    pub(crate) near_segments: Vec<(usize, Option<usize>)>,
 }
 
 /// How far (px) beyond [`Limits::far`] from a region a contour counts as responsible for
@@ -181,36 +186,60 @@ struct Edge {
     a: Point,
     b: Point,
     contour: u32,
+    /// Index of its first point in the contour's polyline.
+    index: u32,
 }
 
-/// The drawn outline of every contour as closed polylines.
-fn flatten(contours: &[FittedContour], merged: &[Vec<MergedCurve>], bound: f64) -> Vec<Vec<Point>> {
+/// The drawn outline of every contour as closed polylines, and for each point the
+/// segment it belongs to (`u32::MAX` where merged curves are drawn).
+fn flatten(
+    contours: &[FittedContour],
+    merged: &[Vec<MergedCurve>],
+    bound: f64,
+) -> Vec<(Vec<Point>, Vec<u32>)> {
     contours
         .iter()
         .enumerate()
         .map(|(i, c)| {
             if c.segments.is_empty() {
-                return Vec::new();
+                return (Vec::new(), Vec::new());
             }
             let merged = merged.get(i).map_or(&[][..], Vec::as_slice);
             let pieces = drawing_pieces(c, merged, bound);
+            // Without merged curves, piece k is segment k.
+            let segment_of = |k: usize| {
+                if merged.is_empty() {
+                    k as u32
+                } else {
+                    u32::MAX
+                }
+            };
             // Step counts once, so that the polyline is allocated at its exact size.
             let steps: Vec<usize> = pieces
                 .iter()
                 .flat_map(|(_, cubics)| cubics.iter().map(flatten_steps))
                 .collect();
-            let mut out = Vec::with_capacity(pieces.len() + steps.iter().sum::<usize>());
+            let size = pieces.len() + steps.iter().sum::<usize>();
+            let (mut out, mut segments) = (Vec::with_capacity(size), Vec::with_capacity(size));
             let mut steps = steps.into_iter();
-            for (start, cubics) in pieces {
+            for (k, (start, cubics)) in pieces.into_iter().enumerate() {
                 out.push(start);
+                segments.push(segment_of(k));
                 for (cubic, n) in cubics.iter().zip(&mut steps) {
-                    for k in 1..=n {
-                        out.push(cubic.eval(k as f64 / n as f64));
+                    for j in 1..=n {
+                        out.push(cubic.eval(j as f64 / n as f64));
+                        segments.push(segment_of(k));
                     }
                 }
             }
-            out.retain(|p| p.is_finite());
-            out
+            if out.iter().any(|p| !p.is_finite()) {
+                let keep: Vec<bool> = out.iter().map(|p| p.is_finite()).collect();
+                let mut flags = keep.iter();
+                out.retain(|_| *flags.next().unwrap_or(&false));
+                let mut flags = keep.iter();
+                segments.retain(|_| *flags.next().unwrap_or(&false));
+            }
+            (out, segments)
         })
         .collect()
 }
@@ -224,6 +253,7 @@ fn edge_of(polylines: &[Vec<Point>], (contour, k): (u32, u32)) -> Edge {
         a: line[k],
         b: line[(k + 1) % line.len()],
         contour,
+        index: k as u32,
     }
 }
 
@@ -318,7 +348,7 @@ impl<'a> EdgeGrid<'a> {
     /// below what any further ring could hold. (Edges beyond the grid are listed in its
     /// border cells, nearer to a point inside; for a point outside, the rings before the
     /// grid are empty, so nothing is skipped until the grid is reached.)
-    fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, u32)> {
+    fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, (u32, u32))> {
         let c = floor_i64(p.x / self.cell);
         let r = floor_i64(p.y / self.cell);
         let k = (reach / self.cell).ceil() as i64;
@@ -326,7 +356,7 @@ impl<'a> EdgeGrid<'a> {
         // plus `margin` (the distance from `p` to its own cell's sides) away.
         let (fx, fy) = (p.x - c as f64 * self.cell, p.y - r as f64 * self.cell);
         let margin = (fx.min(self.cell - fx).min(fy).min(self.cell - fy) - 1e-9).max(0.0);
-        let mut best: Option<(f64, u32)> = None;
+        let mut best: Option<(f64, (u32, u32))> = None;
         for ring in 0..=k {
             if ring > 0 && best.is_some_and(|(d, _)| d <= (ring - 1) as f64 * self.cell + margin) {
                 break;
@@ -342,7 +372,7 @@ impl<'a> EdgeGrid<'a> {
                         }
                         let d = segment_distance(p, e.a, e.b);
                         if d <= reach && best.is_none_or(|(bd, _)| d < bd) {
-                            best = Some((d, e.contour));
+                            best = Some((d, (e.contour, e.index)));
                         }
                     }
                 }
@@ -411,7 +441,22 @@ pub(crate) fn check(
     limits: Limits,
     excused: &HashSet<u32>,
 ) -> Findings {
-    let polylines = flatten(contours, merged, limits.bound);
+    check_again(bitmap, contours, merged, limits, excused, None)
+}
+
+/// [`check`], given the findings of an earlier check of the same contours with
+/// `unchanged[i]` true for each contour drawn and fitted as it was then: their data
+/// points' deviations (measured from their own drawn path only) are taken from it.
+pub(crate) fn check_again(
+    bitmap: &Bitmap,
+    contours: &[FittedContour],
+    merged: &[Vec<MergedCurve>],
+    limits: Limits,
+    excused: &HashSet<u32>,
+    earlier: Option<(&Findings, &[bool])>,
+) -> Findings {
+    let (polylines, segment_of): (Vec<Vec<Point>>, Vec<Vec<u32>>) =
+        flatten(contours, merged, limits.bound).into_iter().unzip();
     let grid = EdgeGrid::new(&polylines, bitmap.width(), bitmap.height());
 
     let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
@@ -420,6 +465,11 @@ pub(crate) fn check(
     let far_limit = limits.far();
     let reach = far_limit * 2.0;
     let deviation_of = |(i, c): (usize, &FittedContour)| -> (f64, Vec<usize>) {
+        if let Some((findings, unchanged)) = earlier {
+            if unchanged.get(i) == Some(&true) && i < findings.worst.len() {
+                return (findings.worst[i], findings.bad_points[i].clone());
+            }
+        }
         if polylines[i].is_empty() {
             return (0.0, Vec::new());
         }
@@ -453,7 +503,7 @@ pub(crate) fn check(
         contours.iter().enumerate().map(deviation_of).collect()
     };
     let max_deviation = per_contour.iter().map(|r| r.0).fold(0.0, f64::max);
-    let bad_points = per_contour.into_iter().map(|r| r.1).collect();
+    let (worst, bad_points) = per_contour.into_iter().unzip();
 
     // 2. Disagreement between the drawn shape and the thresholded input.
     let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
@@ -563,20 +613,26 @@ pub(crate) fn check(
             largest = (area, Some([x0, y0, x1, y1]));
         }
         if counts {
-            let mut near: HashSet<u32> = HashSet::new();
+            let mut near: HashSet<(u32, u32)> = HashSet::new();
             for &p in &pixels {
                 let centre =
                     Point::new((p as usize % w) as f64 + 0.5, (p as usize / w) as f64 + 0.5);
-                if let Some((_, c)) = grid.nearest(centre, REGION_REACH + far_limit, None) {
-                    near.insert(c);
+                if let Some((_, (c, k))) = grid.nearest(centre, REGION_REACH + far_limit, None) {
+                    near.insert((c, segment_of[c as usize][k as usize]));
                 }
             }
-            let mut near_contours: Vec<usize> = near.into_iter().map(|c| c as usize).collect();
-            near_contours.sort_unstable();
+            let mut near_segments: Vec<(usize, Option<usize>)> = near
+                .into_iter()
+                .map(|(c, k)| (c as usize, (k != u32::MAX).then_some(k as usize)))
+                .collect();
+            near_segments.sort_unstable();
+            let mut near_contours: Vec<usize> = near_segments.iter().map(|n| n.0).collect();
+            near_contours.dedup();
             pixels.sort_unstable();
             regions.push(Region {
                 pixels,
                 near_contours,
+                near_segments,
             });
         }
     };
@@ -591,6 +647,7 @@ pub(crate) fn check(
     Findings {
         max_deviation,
         bad_points,
+        worst,
         regions,
         largest,
     }
@@ -618,12 +675,20 @@ impl Repair {
     /// The tighter fits come also for a contour that only sits beside a wrong region:
     /// the fine teeth of an anti-aliased comb are right at 0.15 px from their grey-level
     /// data, and drawn a pixel too thick from the thresholded pixels.
-    pub(crate) fn next(self, tolerance: f64) -> Option<Repair> {
+    ///
+    /// On a `bilevel` image the first trace is already the pixels' own (the bilevel
+    /// regression), so the tighter fits are followed by the pixel polygon directly.
+    pub(crate) fn next(self, tolerance: f64, bilevel: bool) -> Option<Repair> {
+        let pixels = if bilevel {
+            Repair::PixelRaw
+        } else {
+            Repair::PixelSmoothed
+        };
         let tighter = |k: u8| {
             if tighter_tolerance(tolerance, k).is_some() {
                 Repair::Tighter(k)
             } else {
-                Repair::PixelSmoothed
+                pixels
             }
         };
         match self {

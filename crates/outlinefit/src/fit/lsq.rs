@@ -473,13 +473,33 @@ pub(super) fn assemble(
     opts: &LsqOptions,
 ) -> FittedContour {
     let m = joints.len();
+    let ends = |k: usize| (joints[k].index, joints[(k + 1) % m].index);
+    let segments = finish_pieces(
+        points,
+        pieces.into_iter().enumerate().map(|(k, p)| (ends(k), p)),
+        opts,
+    );
+    let joints_out = joint_report(&segments, joints.iter().map(|j| (j.index, j.kind)), points);
+    FittedContour {
+        points: points.to_vec(),
+        is_hole,
+        parent,
+        segments,
+        joints: joints_out,
+    }
+}
+
+/// The segments of fitted `pieces`, each given with the indices of its end points: error
+/// measures and drawn cubics. They are independent: on a large contour they are computed
+/// in parallel (in order, so on any number of threads the same).
+fn finish_pieces(
+    points: &[Point],
+    pieces: impl Iterator<Item = ((usize, usize), Piece)>,
+    opts: &LsqOptions,
+) -> Vec<FittedSegment> {
     let (arc, _) = arc_lengths(points);
-    // Every segment's error measures and drawn cubics are independent: on a large
-    // contour they are computed in parallel (in order, so on any number of threads the
-    // same).
-    let finish = |k: usize, piece: Piece, buf: &mut Vec<Point>| -> FittedSegment {
+    let finish = |(a, b): (usize, usize), piece: Piece, buf: &mut Vec<Point>| -> FittedSegment {
         let started = Instant::now();
-        let (a, b) = (joints[k].index, joints[(k + 1) % m].index);
         cyclic_run(points, a, b, buf);
         let error = segment_error(&piece.solution.curve, buf, &piece.solution.params);
         let seconds = if opts.timings {
@@ -508,26 +528,149 @@ pub(super) fn assemble(
             history: Vec::new(),
         }
     };
-    let segments: Vec<FittedSegment> = if points.len() >= PARALLEL_RUN_POINTS {
+    if points.len() >= PARALLEL_RUN_POINTS {
         use rayon::prelude::*;
+        let pieces: Vec<_> = pieces.collect();
         pieces
             .into_par_iter()
-            .enumerate()
-            .map_init(Vec::new, |buf, (k, piece)| finish(k, piece, buf))
+            .map_init(Vec::new, |buf, (ends, piece)| finish(ends, piece, buf))
             .collect()
     } else {
         let mut buf = Vec::new();
         pieces
-            .into_iter()
-            .enumerate()
-            .map(|(k, piece)| finish(k, piece, &mut buf))
+            .map(|(ends, piece)| finish(ends, piece, &mut buf))
             .collect()
+    }
+}
+
+/// Fits `seg` again where it differs from `previous` (the same data points, fitted
+/// earlier) or where `dirty` says so, and keeps the rest: a run from one corner of `seg`
+/// to the next whose both ends are corners of `previous`, with no corner between them,
+/// keeps `previous`'s segments unless `dirty(a, b)` holds for its end indices. Every other
+/// run is fitted as [`fit_contour`] fits it. The repair uses it to refit only around what
+/// went wrong: a page's large contour costs what its faulty runs cost, not a whole fit.
+pub(crate) fn refit_runs(
+    previous: &FittedContour,
+    seg: &SegmentedContour,
+    dirty: &(dyn Fn(usize, usize) -> bool + Sync),
+    opts: &LsqOptions,
+) -> FittedContour {
+    let points = &seg.points;
+    let n = points.len();
+    let corners: Vec<usize> = seg
+        .breaks
+        .iter()
+        .filter(|b| b.kind == JointKind::Corner)
+        .map(|b| b.index)
+        .collect();
+    if corners.len() < 2 || previous.points != *points || previous.segments.is_empty() {
+        return fit_contour(seg, opts);
+    }
+    // Where each of `previous`'s segments starts, and its corners.
+    let starting: std::collections::HashMap<usize, usize> = previous
+        .segments
+        .iter()
+        .enumerate()
+        .map(|(k, s)| (s.start, k))
+        .collect();
+    let corner_of_previous = |index: usize| {
+        starting
+            .get(&index)
+            .is_some_and(|&k| previous.joints[k].kind == JointKind::Corner)
     };
-    let joints_out = joint_report(&segments, joints.iter().map(|j| (j.index, j.kind)), points);
+    // `previous`'s segments from corner `a` to corner `b`, when no corner lies between.
+    let kept_run = |a: usize, b: usize| -> Option<std::ops::Range<usize>> {
+        if !corner_of_previous(a) || !corner_of_previous(b) || dirty(a, b) {
+            return None;
+        }
+        let first = starting[&a];
+        let m = previous.segments.len();
+        for step in 0..m {
+            let k = (first + step) % m;
+            if step > 0 && previous.joints[k].kind == JointKind::Corner {
+                return None;
+            }
+            if previous.segments[k].end == b {
+                return Some(first..first + step + 1);
+            }
+        }
+        None
+    };
+    let joints: Vec<JointSpec> = seg
+        .breaks
+        .iter()
+        .map(|b| JointSpec {
+            index: b.index,
+            kind: b.kind,
+            tangent: (b.kind == JointKind::Smooth)
+                .then(|| estimate_tangent(points, b.index, opts.tangent_window)),
+        })
+        .collect();
+    let m = joints.len();
+    let corner_at: Vec<usize> = (0..m)
+        .filter(|&k| joints[k].kind == JointKind::Corner)
+        .collect();
+    // Each run in order: kept segments, or new pieces with their joints.
+    enum Run {
+        Kept(std::ops::Range<usize>),
+        Fitted(Vec<JointSpec>, Vec<Piece>),
+    }
+    let run = |r: usize| {
+        let c = corner_at[r];
+        let next = corner_at[(r + 1) % corner_at.len()];
+        let (a, b) = (joints[c].index, joints[next].index);
+        match kept_run(a, b) {
+            Some(range) => Run::Kept(range),
+            None => {
+                let len = (next + m - c) % m + 1;
+                let run: Vec<JointSpec> = (0..len).map(|k| joints[(c + k) % m]).collect();
+                let (run_joints, pieces) = fit_chain(points, run, false, opts);
+                Run::Fitted(run_joints, pieces)
+            }
+        }
+    };
+    // Runs are independent: in parallel on a large contour, in order.
+    let runs: Vec<Run> = if n >= PARALLEL_RUN_POINTS {
+        use rayon::prelude::*;
+        (0..corner_at.len()).into_par_iter().map(run).collect()
+    } else {
+        (0..corner_at.len()).map(run).collect()
+    };
+    let mut segments: Vec<FittedSegment> = Vec::new();
+    let mut kinds: Vec<(usize, JointKind)> = Vec::new();
+    for run in runs {
+        match run {
+            Run::Kept(range) => {
+                let count = previous.segments.len();
+                for k in range {
+                    let k = k % count;
+                    segments.push(previous.segments[k].clone());
+                    kinds.push((previous.joints[k].index, previous.joints[k].kind));
+                }
+            }
+            Run::Fitted(run_joints, pieces) => {
+                let ends = run_joints.windows(2).map(|w| (w[0].index, w[1].index));
+                kinds.extend(
+                    run_joints[..run_joints.len() - 1]
+                        .iter()
+                        .map(|j| (j.index, j.kind)),
+                );
+                segments.extend(finish_pieces(points, ends.zip(pieces), opts));
+            }
+        }
+    }
+    // Start again at the first joint of `seg`'s order that is left.
+    let first = joints[0].index;
+    let lead = (0..kinds.len())
+        .min_by_key(|&k| (kinds[k].0 + n - first) % n)
+        .unwrap_or(0);
+    segments.rotate_left(lead);
+    kinds.rotate_left(lead);
+    let joints_out = joint_report(&segments, kinds.into_iter(), points);
     FittedContour {
-        points: points.to_vec(),
-        is_hole,
-        parent,
+        points: points.clone(),
+        is_hole: seg.is_hole,
+        parent: seg.parent,
         segments,
         joints: joints_out,
     }
@@ -567,7 +710,7 @@ pub(crate) fn joint_report(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::breaks::{find_breaks, BreakOptions};
+    use crate::breaks::{find_breaks, Break, BreakOptions, BreakReason};
     use crate::contour::Contour;
 
     fn ellipse(n: usize) -> Vec<Point> {
@@ -617,6 +760,87 @@ mod tests {
             let end = fitted.segments[k].curve.points[3];
             let start = fitted.segments[(k + 1) % m].curve.points[0];
             assert_eq!(end, start);
+        }
+    }
+
+    /// A 60 px square whose sides wave by 1.5 px, 60 points a side, corners at 0, 60,
+    /// 120, 180.
+    fn wavy_square() -> SegmentedContour {
+        let mut points = Vec::new();
+        let corners = [(0.0, 0.0), (60.0, 0.0), (60.0, 60.0), (0.0, 60.0)];
+        for side in 0..4 {
+            let (a, b) = (corners[side], corners[(side + 1) % 4]);
+            let (a, b) = (Point::new(a.0, a.1), Point::new(b.0, b.1));
+            let normal = Point::new(-(b.y - a.y) / 60.0, (b.x - a.x) / 60.0);
+            for k in 0..60 {
+                let t = k as f64 / 60.0;
+                let wave = 1.5 * (t * std::f64::consts::TAU * 2.0).sin();
+                points.push(a + (b - a) * t + normal * wave);
+            }
+        }
+        let breaks = (0..4)
+            .map(|k| Break {
+                index: 60 * k,
+                kind: JointKind::Corner,
+                reason: BreakReason::Corner,
+            })
+            .collect();
+        SegmentedContour {
+            points,
+            is_hole: false,
+            parent: None,
+            breaks,
+        }
+    }
+
+    #[test]
+    fn refit_runs_keeps_clean_runs_and_tightens_the_dirty_one() {
+        let seg = wavy_square();
+        let loose = LsqOptions::for_tolerance(0.3, false);
+        let previous = fit_contour(&seg, &loose);
+        // Nothing dirty and the same corners: every segment is kept as it was.
+        let same = refit_runs(&previous, &seg, &|_, _| false, &loose);
+        let curves = |c: &FittedContour| c.segments.iter().map(|s| s.curve).collect::<Vec<_>>();
+        assert_eq!(curves(&same), curves(&previous));
+        // The run from corner 60 to corner 120 fitted at 0.05 px; the others untouched.
+        let tight = LsqOptions::for_tolerance(0.05, false);
+        let refit = refit_runs(&previous, &seg, &|a, _| a == 60, &tight);
+        let in_run = |s: &FittedSegment| s.start >= 60 && s.end <= 120 && s.start < s.end;
+        let outside = |c: &FittedContour| {
+            c.segments
+                .iter()
+                .filter(|s| !in_run(s))
+                .map(|s| s.curve)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(outside(&refit), outside(&previous));
+        for s in refit.segments.iter().filter(|s| in_run(s)) {
+            assert!(
+                s.error.max_distance <= 0.05 + 1e-9,
+                "{}",
+                s.error.max_distance
+            );
+        }
+        assert!(
+            refit.segments.iter().filter(|s| in_run(s)).count()
+                > previous.segments.iter().filter(|s| in_run(s)).count()
+        );
+        // Still a closed chain, G1 at every smooth joint, corners where they were.
+        let m = refit.segments.len();
+        assert_eq!(refit.joints.len(), m);
+        for k in 0..m {
+            assert_eq!(
+                refit.segments[k].curve.points[3],
+                refit.segments[(k + 1) % m].curve.points[0]
+            );
+            assert_eq!(refit.joints[k].index, refit.segments[k].start);
+        }
+        for j in &refit.joints {
+            if j.kind == JointKind::Smooth {
+                assert!(j.angle < 1e-9, "joint angle {}", j.angle);
+            } else {
+                assert_eq!(j.index % 60, 0);
+            }
         }
     }
 

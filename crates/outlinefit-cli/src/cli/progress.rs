@@ -1,0 +1,81 @@
+//! The progress line of a single `trace`: shown on a terminal once the trace has run for
+//! [`SHOW_AFTER`], never on a pipe or a file (a script's log gets no control characters).
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use outlinefit::progress::{Progress, Stage};
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// How long a trace runs before its progress is shown: a quick one stays silent.
+const SHOW_AFTER: Duration = Duration::from_secs(1);
+
+/// A progress bar on standard error that appears only on a terminal, after
+/// [`SHOW_AFTER`].
+pub(crate) struct TerminalProgress {
+    bar: ProgressBar,
+    started: Instant,
+    /// False when standard error is not a terminal: nothing is ever drawn.
+    terminal: bool,
+    shown: AtomicBool,
+}
+
+impl TerminalProgress {
+    pub(crate) fn new() -> TerminalProgress {
+        let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
+        TerminalProgress {
+            bar,
+            started: Instant::now(),
+            terminal: std::io::stderr().is_terminal(),
+            shown: AtomicBool::new(false),
+        }
+    }
+
+    /// Draws the bar from now on, once the trace has run long enough.
+    fn show_if_due(&self) {
+        if self.terminal
+            && !self.shown.load(Ordering::Relaxed)
+            && self.started.elapsed() >= SHOW_AFTER
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+    }
+
+    /// Removes the bar (before warnings are printed).
+    pub(crate) fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl Progress for TerminalProgress {
+    fn stage(&self, stage: Stage, total: u64) {
+        // The check counts its rounds (most traces need one; the most is a bound, not
+        // an estimate); a stage of unknown length shows its name and the time only.
+        let template = if stage == Stage::Checking {
+            "{msg:28} round {pos:>2} {elapsed_precise}"
+        } else if total == 0 {
+            "{msg:28} {elapsed_precise}"
+        } else {
+            "{msg:28} {bar:30} {percent:>3}% {elapsed_precise}"
+        };
+        self.bar.set_style(
+            ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        self.bar.set_message(stage.describe());
+        self.bar.set_length(total);
+        self.bar.set_position(0);
+        self.show_if_due();
+    }
+
+    fn advance(&self, done: u64) {
+        self.bar.inc(done);
+        self.show_if_due();
+    }
+}
+
+impl Drop for TerminalProgress {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}
