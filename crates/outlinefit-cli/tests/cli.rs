@@ -535,3 +535,37 @@ fn strict_and_no_check_are_exclusive_and_no_check_reports_nothing_held() {
     );
     assert!(dir.join("q.svg").exists());
 }
+
+/// `outlinefit FILE …` is `outlinefit trace FILE …`: the same SVG; a missing file is named
+/// as such, and a misspelt command still gets the parser's suggestion.
+#[test]
+fn a_file_as_first_argument_means_trace() {
+    let dir = scratch("default_command");
+    let input = common::samples_dir().join("s.png");
+    let short = dir.join("short.svg");
+    let long = dir.join("long.svg");
+    let a = bin().arg(&input).arg("-o").arg(&short).output().unwrap();
+    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
+    let b = bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(&long)
+        .output()
+        .unwrap();
+    assert!(b.status.success());
+    assert_eq!(
+        std::fs::read(&short).unwrap(),
+        std::fs::read(&long).unwrap()
+    );
+    let missing = bin().arg(dir.join("missing.png")).output().unwrap();
+    assert_eq!(missing.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert!(
+        err.contains("cannot read") && err.contains("missing.png"),
+        "{err}"
+    );
+    let typo = bin().arg("trcae").output().unwrap();
+    assert_eq!(typo.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&typo.stderr).contains("'trace'"));
+}

@@ -12,13 +12,20 @@ mod reduce;
 mod surface;
 mod trace;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 pub(crate) use messages::{error_line, panic_message};
 
 /// Trace bitmap outlines into G1-continuous rational cubic Bézier curves, with a
 /// per-segment error report.
 #[derive(Parser, Debug)]
-#[command(name = "outlinefit", version, about, long_about = None, after_help = EXIT_STATUS)]
+#[command(
+    name = "outlinefit",
+    version,
+    about,
+    long_about = None,
+    after_help = EXIT_STATUS,
+    override_usage = "outlinefit <COMMAND>\n       outlinefit <IMAGE> [OPTIONS]   (short for: outlinefit trace <IMAGE> [OPTIONS])"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -71,7 +78,7 @@ enum Command {
 
 /// Parses the command line and runs it; returns the exit code.
 pub(crate) fn run() -> anyhow::Result<i32> {
-    let cli = Cli::parse();
+    let cli = Cli::parse_from(with_default_command(std::env::args_os().collect()));
     match cli.command {
         Command::Trace(args) => trace::run(&args),
         Command::Batch(args) => batch::run(&args),
@@ -81,4 +88,29 @@ pub(crate) fn run() -> anyhow::Result<i32> {
         Command::Merge(args) => merge::run(&args),
         Command::Surface(args) => surface::run(&args),
     }
+}
+
+/// `outlinefit FILE …` means `outlinefit trace FILE …`, as `potrace FILE` traces a file:
+/// when the first argument is no command and is a path (an existing file or folder, a
+/// name with a folder or an extension, or `-` for standard input), `trace` is put before
+/// it. Anything else is left to the parser, so a misspelt command still gets its
+/// "unrecognized subcommand" and suggestion.
+fn with_default_command(mut args: Vec<std::ffi::OsString>) -> Vec<std::ffi::OsString> {
+    let Some(first) = args.get(1) else {
+        return args;
+    };
+    let is_command = first
+        .to_str()
+        .is_some_and(|s| Cli::command().find_subcommand(s).is_some() || s == "help");
+    // A name with a folder or an extension is a path even when it does not exist, so
+    // that the error names the missing file rather than an unknown command.
+    let path = std::path::Path::new(first);
+    let is_input = first == "-"
+        || path.exists()
+        || path.extension().is_some()
+        || path.components().count() > 1;
+    if !is_command && is_input {
+        args.insert(1, "trace".into());
+    }
+    args
 }
