@@ -205,18 +205,21 @@ pub(crate) fn check_and_repair(
                 Repair::Corners => {
                     // Only the runs that the new corners cut are fitted again.
                     let seg = with_corners(&contours[i], bad);
+                    let (refit, work) =
+                        refit_runs(&contours[i], &seg, &|_, _| false, &options(own));
                     if level[i] != Repair::PixelRaw {
-                        work(&mut ladder_left, &seg, &contours[i], &|_, _| false);
+                        ladder_left -= work as f64;
                     }
-                    contours[i] = refit_runs(&contours[i], &seg, &|_, _| false, &options(own));
+                    contours[i] = refit;
                     None
                 }
                 Repair::Tighter(k) => {
                     // Only the runs where something went wrong are fitted tighter.
                     let tighter = tighter_tolerance(tolerance, k).unwrap_or(tolerance);
                     let seg = corners_kept(&contours[i]);
-                    work(&mut ladder_left, &seg, &contours[i], &dirty);
-                    contours[i] = refit_runs(&contours[i], &seg, &dirty, &options(tighter));
+                    let (refit, work) = refit_runs(&contours[i], &seg, &dirty, &options(tighter));
+                    ladder_left -= work as f64;
+                    contours[i] = refit;
                     None
                 }
                 Repair::PixelSmoothed | Repair::PixelRaw => {
@@ -339,39 +342,6 @@ fn lsq_options(tolerance: f64, bound: f64, timings: bool) -> LsqOptions {
     LsqOptions {
         export_bound: bound,
         ..LsqOptions::for_tolerance(tolerance, timings)
-    }
-}
-
-/// Counts against the ladder's `left` work the data points of the runs of `seg` that
-/// [`refit_runs`] fits again: those that are not runs of `previous` or are `dirty`.
-fn work(
-    left: &mut f64,
-    seg: &SegmentedContour,
-    previous: &FittedContour,
-    dirty: &(dyn Fn(usize, usize) -> bool + Sync),
-) {
-    let n = seg.points.len();
-    let corners: Vec<usize> = seg
-        .breaks
-        .iter()
-        .filter(|b| b.kind == JointKind::Corner)
-        .map(|b| b.index)
-        .collect();
-    if corners.len() < 2 {
-        *left -= n as f64;
-        return;
-    }
-    let old: HashSet<usize> = previous
-        .joints
-        .iter()
-        .filter(|j| j.kind == JointKind::Corner)
-        .map(|j| j.index)
-        .collect();
-    for (r, &a) in corners.iter().enumerate() {
-        let b = corners[(r + 1) % corners.len()];
-        if !old.contains(&a) || !old.contains(&b) || dirty(a, b) {
-            *left -= ((b + n - a) % n + 1) as f64;
-        }
     }
 }
 

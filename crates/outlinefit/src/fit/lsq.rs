@@ -252,20 +252,25 @@ fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
     at_points.max(between)
 }
 
-/// Fits a closed chain of segments to a segmented contour.
-pub(crate) fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
-    let points = &seg.points;
-    let n = points.len();
-    let joints: Vec<JointSpec> = seg
-        .breaks
+/// The joints of `seg`'s breaks, each smooth one with its tangent estimated from the
+/// data around it.
+fn joint_specs(seg: &SegmentedContour, opts: &LsqOptions) -> Vec<JointSpec> {
+    seg.breaks
         .iter()
         .map(|b| JointSpec {
             index: b.index,
             kind: b.kind,
             tangent: (b.kind == JointKind::Smooth)
-                .then(|| estimate_tangent(points, b.index, opts.tangent_window)),
+                .then(|| estimate_tangent(&seg.points, b.index, opts.tangent_window)),
         })
-        .collect();
+        .collect()
+}
+
+/// Fits a closed chain of segments to a segmented contour.
+pub(crate) fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedContour {
+    let points = &seg.points;
+    let n = points.len();
+    let joints = joint_specs(seg, opts);
     if n < 3 || joints.len() < 2 {
         return FittedContour {
             points: points.clone(),
@@ -549,22 +554,22 @@ fn finish_pieces(
 /// keeps `previous`'s segments unless `dirty(a, b)` holds for its end indices. Every other
 /// run is fitted as [`fit_contour`] fits it. The repair uses it to refit only around what
 /// went wrong: a page's large contour costs what its faulty runs cost, not a whole fit.
+/// Also returns the data points fitted again (each run's, both ends included).
 pub(crate) fn refit_runs(
     previous: &FittedContour,
     seg: &SegmentedContour,
     dirty: &(dyn Fn(usize, usize) -> bool + Sync),
     opts: &LsqOptions,
-) -> FittedContour {
+) -> (FittedContour, usize) {
     let points = &seg.points;
     let n = points.len();
-    let corners: Vec<usize> = seg
+    let corners = seg
         .breaks
         .iter()
         .filter(|b| b.kind == JointKind::Corner)
-        .map(|b| b.index)
-        .collect();
-    if corners.len() < 2 || previous.points != *points || previous.segments.is_empty() {
-        return fit_contour(seg, opts);
+        .count();
+    if corners < 2 || previous.points != *points || previous.segments.is_empty() {
+        return (fit_contour(seg, opts), n);
     }
     // Where each of `previous`'s segments starts, and its corners.
     let starting: std::collections::HashMap<usize, usize> = previous
@@ -596,16 +601,7 @@ pub(crate) fn refit_runs(
         }
         None
     };
-    let joints: Vec<JointSpec> = seg
-        .breaks
-        .iter()
-        .map(|b| JointSpec {
-            index: b.index,
-            kind: b.kind,
-            tangent: (b.kind == JointKind::Smooth)
-                .then(|| estimate_tangent(points, b.index, opts.tangent_window)),
-        })
-        .collect();
+    let joints = joint_specs(seg, opts);
     let m = joints.len();
     let corner_at: Vec<usize> = (0..m)
         .filter(|&k| joints[k].kind == JointKind::Corner)
@@ -613,7 +609,8 @@ pub(crate) fn refit_runs(
     // Each run in order: kept segments, or new pieces with their joints.
     enum Run {
         Kept(std::ops::Range<usize>),
-        Fitted(Vec<JointSpec>, Vec<Piece>),
+        /// The run's joints and pieces, and its data points.
+        Fitted(Vec<JointSpec>, Vec<Piece>, usize),
     }
     let run = |r: usize| {
         let c = corner_at[r];
@@ -625,7 +622,7 @@ pub(crate) fn refit_runs(
                 let len = (next + m - c) % m + 1;
                 let run: Vec<JointSpec> = (0..len).map(|k| joints[(c + k) % m]).collect();
                 let (run_joints, pieces) = fit_chain(points, run, false, opts);
-                Run::Fitted(run_joints, pieces)
+                Run::Fitted(run_joints, pieces, (b + n - a) % n + 1)
             }
         }
     };
@@ -638,6 +635,7 @@ pub(crate) fn refit_runs(
     };
     let mut segments: Vec<FittedSegment> = Vec::new();
     let mut kinds: Vec<(usize, JointKind)> = Vec::new();
+    let mut refitted = 0;
     for run in runs {
         match run {
             Run::Kept(range) => {
@@ -648,7 +646,8 @@ pub(crate) fn refit_runs(
                     kinds.push((previous.joints[k].index, previous.joints[k].kind));
                 }
             }
-            Run::Fitted(run_joints, pieces) => {
+            Run::Fitted(run_joints, pieces, count) => {
+                refitted += count;
                 let ends = run_joints.windows(2).map(|w| (w[0].index, w[1].index));
                 kinds.extend(
                     run_joints[..run_joints.len() - 1]
@@ -667,13 +666,16 @@ pub(crate) fn refit_runs(
     segments.rotate_left(lead);
     kinds.rotate_left(lead);
     let joints_out = joint_report(&segments, kinds.into_iter(), points);
-    FittedContour {
-        points: points.clone(),
-        is_hole: seg.is_hole,
-        parent: seg.parent,
-        segments,
-        joints: joints_out,
-    }
+    (
+        FittedContour {
+            points: points.clone(),
+            is_hole: seg.is_hole,
+            parent: seg.parent,
+            segments,
+            joints: joints_out,
+        },
+        refitted,
+    )
 }
 
 /// Joint data (kind, tangent angle, β of Eq. 8) for a closed chain: joint i is where
@@ -799,12 +801,14 @@ mod tests {
         let loose = LsqOptions::for_tolerance(0.3, false);
         let previous = fit_contour(&seg, &loose);
         // Nothing dirty and the same corners: every segment is kept as it was.
-        let same = refit_runs(&previous, &seg, &|_, _| false, &loose);
+        let (same, none) = refit_runs(&previous, &seg, &|_, _| false, &loose);
+        assert_eq!(none, 0);
         let curves = |c: &FittedContour| c.segments.iter().map(|s| s.curve).collect::<Vec<_>>();
         assert_eq!(curves(&same), curves(&previous));
         // The run from corner 60 to corner 120 fitted at 0.05 px; the others untouched.
         let tight = LsqOptions::for_tolerance(0.05, false);
-        let refit = refit_runs(&previous, &seg, &|a, _| a == 60, &tight);
+        let (refit, refitted) = refit_runs(&previous, &seg, &|a, _| a == 60, &tight);
+        assert_eq!(refitted, 61);
         let in_run = |s: &FittedSegment| s.start >= 60 && s.end <= 120 && s.start < s.end;
         let outside = |c: &FittedContour| {
             c.segments
