@@ -8,8 +8,8 @@
 //! its contours are extracted with sub-pixel points; break points are found by curvature;
 //! each piece is fitted ([`fit`]); adjacent segments are optionally merged into disk
 //! Wang–Ball curves ([`merge`]); the drawn result is checked against the pixels and
-//! repaired where it lost or invented a part ([`Fidelity`]); [`to_svg`] and [`report`]
-//! write it. [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`].
+//! repaired where it lost or invented a part ([`Fidelity`]); [`export`] (SVG, PDF, EPS,
+//! DXF, GeoJSON) and [`report`] write it. [`trace_file`] and [`trace_bitmap`] run the whole chain with a [`Config`].
 //!
 //! ## Tracing an image held in memory
 //!
@@ -18,7 +18,7 @@
 //!
 //! ```
 //! use image::{DynamicImage, GrayImage, Luma};
-//! use outlinefit::{to_svg, trace_bitmap, Bitmap, Config, SvgOptions};
+//! use outlinefit::{to_svg, trace_bitmap, Bitmap, Config, ExportOptions};
 //!
 //! // A black disk of radius 20 px on white paper.
 //! let disk = GrayImage::from_fn(64, 64, |x, y| {
@@ -28,7 +28,7 @@
 //! let config = Config::default();
 //! let bitmap = Bitmap::from_image(&DynamicImage::ImageLuma8(disk), &config.raster_options())?;
 //! let traced = trace_bitmap(&bitmap, &config)?;
-//! let svg = to_svg(&traced, &SvgOptions::for_tolerance(config.tolerance));
+//! let svg = to_svg(&traced, &ExportOptions::for_tolerance(config.tolerance));
 //!
 //! assert_eq!(traced.contours.len(), 1); // one outline, no hole
 //! assert!(traced.max_distance() <= config.tolerance); // every edge point within 0.3 px
@@ -74,7 +74,10 @@ mod trace;
 pub use crate::breaks::JointKind;
 pub use crate::curve::{CubicBez, ParamCurve, RationalCubic};
 pub use crate::error::{Error, ForegroundHint, Result};
-pub use crate::export::{to_overlay_svg, to_svg, OverlayOptions, SvgOptions};
+pub use crate::export::{
+    export, to_geojson, to_overlay_svg, to_pdf, to_postscript, to_svg, ExportOptions, Format,
+    OverlayOptions, Rgb, Size, Unit, DEFAULT_DPI, DXF_LAYER,
+};
 pub use crate::fidelity::Fidelity;
 pub use crate::fit::placement::BreakPlacement;
 pub use crate::fit::{FittedContour, FittedSegment, Joint, Method, Search, SegmentError};

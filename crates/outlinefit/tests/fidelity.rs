@@ -6,7 +6,7 @@
 
 mod common;
 
-use outlinefit::{to_svg, SvgOptions};
+use outlinefit::{to_svg, ExportOptions};
 use outlinefit::{trace_bitmap, Bitmap, Config, ThresholdMode};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -275,7 +275,7 @@ fn trace_and_measure(shape: &Shape, cov: Vec<f32>, kind: &str) {
         "{} ({kind}): check did not hold: {:?}",
         shape.name, result.fidelity
     );
-    let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+    let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
     let h = hausdorff_to_truth(shape, &svg);
     // 0.25 px is the resolution of the 4× comparison.
     assert!(
@@ -371,7 +371,7 @@ fn random_shapes_hold_the_check_or_say_so() {
         // Independently of the tracer's rasterizer: where resvg's rendering and the
         // thresholded input disagree, the disagreement is never thicker than a pixel (no
         // pixel whose whole 3×3 neighbourhood disagrees).
-        let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+        let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
         let drawn = common::render_svg_coverage(&svg, shape.size, shape.size);
         let t = bitmap.threshold() as f32;
         let xor: Vec<bool> = (0..n * n)
@@ -440,7 +440,7 @@ fn a_wisp_that_tapers_to_nothing_is_traced_whole() {
         let bitmap = Bitmap::from_coverage(shape.size, shape.size, cov, None).unwrap();
         let result = trace_bitmap(&bitmap, &config).unwrap();
         assert!(result.fidelity.held, "{:?}", result.fidelity);
-        let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+        let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
         let n = (shape.size * 4) as usize;
         let drawn = common::render_svg_coverage_scaled(&svg, n as u32, n as u32, 4.0);
         let drawn_area: f64 = drawn.iter().map(|&v| f64::from(v)).sum::<f64>() / 16.0;
@@ -520,7 +520,7 @@ fn an_unevenly_lit_page_is_traced_with_the_local_threshold() {
         };
         let bitmap = Bitmap::from_image(&img, &config.raster_options()).unwrap();
         let result = trace_bitmap(&bitmap, &config).unwrap();
-        let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+        let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
         (result, wrong_pixels(&svg, w, h, &truth))
     };
     let (auto, auto_wrong) = traced(ThresholdMode::Auto);
@@ -537,7 +537,7 @@ fn an_unevenly_lit_page_is_traced_with_the_local_threshold() {
     let bitmap = Bitmap::from_image(&even, &config.raster_options()).unwrap();
     assert_eq!(bitmap.threshold_mode(), ThresholdMode::Global);
     let result = trace_bitmap(&bitmap, &config).unwrap();
-    let even_wrong = wrong_pixels(&to_svg(&result, &SvgOptions::default()), w, h, &truth);
+    let even_wrong = wrong_pixels(&to_svg(&result, &ExportOptions::default()), w, h, &truth);
     let ink = truth.iter().filter(|&&t| t).count();
     eprintln!("wrong pixels: lit unevenly {auto_wrong}, evenly {even_wrong}, of {ink} ink");
     assert!(
@@ -648,7 +648,7 @@ fn checkerboards_and_halftones_are_traced_right_or_not_held() {
             eprintln!("{name}: not held");
             continue;
         }
-        let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+        let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
         // At 5×, pixel (x, y)'s centre is the centre of the rendered pixel (5x + 2, 5y + 2).
         let drawn = common::render_svg_coverage_scaled(&svg, size * 5, size * 5, 5.0);
         let mut tiles = vec![0usize; (size as usize / 8).pow(2)];

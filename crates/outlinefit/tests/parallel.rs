@@ -3,7 +3,7 @@
 
 use outlinefit::optim::Algorithm;
 use outlinefit::Bitmap;
-use outlinefit::{to_svg, SvgOptions};
+use outlinefit::{to_svg, ExportOptions};
 use outlinefit::{trace_bitmap, Config, Method, TraceResult};
 
 /// A 480 × 360 page of 12 × 9 anti-aliased rings and disks (4 × 4 supersampled), radii
@@ -91,7 +91,7 @@ fn many_contours_give_the_same_result_on_one_and_three_threads() {
                 assert_eq!(s.curve.weights, t.curve.weights, "{optimizer}");
             }
         }
-        let opts = SvgOptions::default();
+        let opts = ExportOptions::default();
         assert_eq!(to_svg(&one, &opts), to_svg(&three, &opts), "{optimizer}");
         assert!(one.fidelity.held, "{optimizer}");
     }
@@ -152,7 +152,7 @@ fn one_large_contour_with_corners_gives_the_same_result_on_one_and_three_threads
             t.error.max_distance.to_bits()
         );
     }
-    let opts = SvgOptions::default();
+    let opts = ExportOptions::default();
     assert_eq!(to_svg(&one, &opts), to_svg(&three, &opts));
     assert!(one.fidelity.held);
 }
@@ -202,7 +202,7 @@ fn contour_refinement_and_fidelity_check_give_the_same_result_on_one_and_three_t
         assert_eq!(a.is_hole, b.is_hole);
         assert_eq!(a.parent, b.parent);
     }
-    let opts = SvgOptions::default();
+    let opts = ExportOptions::default();
     assert_eq!(to_svg(&one, &opts), to_svg(&three, &opts));
     assert!(one.fidelity.held && three.fidelity.held);
     assert_eq!(

@@ -6,7 +6,7 @@ mod common;
 use outlinefit::fit::{reference_errors, refit_contour, RefitOptions};
 use outlinefit::optim::Algorithm;
 use outlinefit::progress::{Progress, Stage};
-use outlinefit::{to_svg, SvgOptions};
+use outlinefit::{to_svg, ExportOptions};
 use outlinefit::{trace_bitmap, trace_bitmap_with_progress, Bitmap};
 use outlinefit::{trace_file, BreakPlacement, Config, JointKind, Method, Search};
 use std::sync::Mutex;
@@ -46,7 +46,7 @@ fn check_sample(config: &Config, min_iou: f64) {
         for c in &result.contours {
             assert_g1_and_closed(c, &name);
         }
-        let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+        let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
         let iou = iou_with_input(&svg, &path);
         assert!(iou >= min_iou, "{name}: IoU {iou:.4} < {min_iou}");
         if std::env::var_os("OUTLINEFIT_SHOW_IOU").is_some() {
@@ -176,7 +176,7 @@ fn merged_outlines_stay_within_tolerance_render_back_and_stay_g1() {
         removed += r.segment_count() - r.curve_count();
         // Merged curves are as faithful to the input as the segments they replace (both
         // are within the tolerance of the same data; measured differences ≤ 0.001).
-        let options = SvgOptions::for_tolerance(config.tolerance);
+        let options = ExportOptions::for_tolerance(config.tolerance);
         let merged_iou = iou_with_input(&to_svg(&r, &options), &path);
         let plain_iou = iou_with_input(&to_svg(&base, &options), &path);
         assert!(

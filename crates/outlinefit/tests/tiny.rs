@@ -9,7 +9,7 @@
 mod common;
 
 use image::{DynamicImage, GrayImage, Luma};
-use outlinefit::{to_svg, trace_bitmap, Bitmap, Config, Error, SvgOptions};
+use outlinefit::{to_svg, trace_bitmap, Bitmap, Config, Error, ExportOptions};
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 
@@ -48,7 +48,7 @@ fn check(w: u32, h: u32, bits: u64) -> Option<String> {
                     return Some(format!("{name}: an outline of no contour"));
                 }
                 if result.fidelity.held {
-                    let svg = to_svg(&result, &SvgOptions::default());
+                    let svg = to_svg(&result, &ExportOptions::default());
                     let wrong = wrong_centres(w, h, bits, &svg);
                     // With the default minimum area, the specks it drops are wrong on
                     // purpose. Beyond them, no more wrong centres than the dense limit of

@@ -8,7 +8,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use outlinefit::io::{remove_stale_temporaries, write_atomic, write_atomic_with};
 use outlinefit::{report, trace_file, Config, TraceResult};
-use outlinefit::{to_svg, SvgOptions};
+use outlinefit::{to_svg, ExportOptions};
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -302,7 +302,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
             let target = resolve_output(&svg_path, args.follow_symlinks)?;
             write_atomic(
                 &target,
-                to_svg(&result, &SvgOptions::for_tolerance(config.tolerance)).as_bytes(),
+                to_svg(&result, &ExportOptions::for_tolerance(config.tolerance)).as_bytes(),
             )?;
             Ok(result)
         },

@@ -11,7 +11,7 @@ use clap::Args;
 use outlinefit::io::ensure_output_dir_exists;
 use outlinefit::{report, trace_bitmap_with_progress, Bitmap};
 use outlinefit::{to_overlay_svg, OverlayOptions};
-use outlinefit::{to_svg, SvgOptions};
+use outlinefit::{to_svg, ExportOptions};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
@@ -172,7 +172,7 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
             ),
         })?;
     }
-    let svg = to_svg(&result, &SvgOptions::for_tolerance(config.tolerance));
+    let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
     write_output(&resolved[0], |w| w.write_all(svg.as_bytes()))?;
     Ok(0)
 }

@@ -28,7 +28,8 @@
 //! pixels, so a 64-px glyph and a 1024-px logo are both readable. On large images with dense
 //! data the dots merge into a band around the outline.
 
-use super::svg::{contour_path_data, effective_bound, pixel_document, ContourPath};
+use super::options::effective_bound;
+use super::svg::{contour_path_data, pixel_document, ContourPath};
 use crate::curve::wang_ball::envelope::envelope_band;
 use crate::fit::JointKind;
 use crate::geom::Point;
@@ -62,7 +63,7 @@ const ENVELOPE_SAMPLES: usize = 120;
 #[derive(Clone, Debug, PartialEq)]
 pub struct OverlayOptions {
     /// Largest distance, in pixels, between a rational segment and the cubics that draw the
-    /// outline (as [`super::SvgOptions::bound`]). Default: 0.02.
+    /// outline (as [`super::ExportOptions::bound`]). Default: 0.02.
     pub bound: f64,
     /// Decimals of every coordinate, at most 12. Default: 3.
     pub precision: usize,

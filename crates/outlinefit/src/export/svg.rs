@@ -9,7 +9,7 @@
 //! their own path.
 //!
 //! SVG cannot draw rational curves, so each rational segment goes through
-//! [`approximate_with_cubics`](crate::curve::approx::approximate_with_cubics) with [`SvgOptions::bound`]: polynomial segments are written
+//! [`approximate_with_cubics`](crate::curve::approx::approximate_with_cubics) with [`ExportOptions::bound`]: polynomial segments are written
 //! exactly, rational ones as one or more cubics whose measured distance to the rational
 //! curve is within the bound, and G1 joints stay G1. The exact rational data belongs in the
 //! JSON report.
@@ -19,108 +19,43 @@
 //! decimals, trailing zeros trimmed, never `-0`, so identical results give byte-identical
 //! files. Points are rounded to `precision` decimals, which moves them by at most half a
 //! unit of the last decimal (0.005 px by default), on top of the approximation bound;
-//! [`SvgOptions::for_tolerance`] picks the fewest decimals that keep this within half the
+//! [`ExportOptions::for_tolerance`] picks the fewest decimals that keep this within half the
 //! bound.
 //!
 //! Nothing is dropped silently: a contour with non-finite coordinates, or a hole without an
 //! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
 //! would be filled). Contours without segments have nothing to draw and are skipped.
 
-use crate::curve::approx::{drawing_bound, DEFAULT_DRAWING_BOUND};
-use crate::curve::CubicBez;
+use super::options::{ExportOptions, Unit};
+use super::shapes::{holes_of, is_straight};
 use crate::fit::FittedContour;
 use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::trace::TraceResult;
 
-pub(crate) use crate::svg_writer::MAX_PRECISION;
-use crate::svg_writer::{decimals_for, CompactPath, Document, Path};
+use crate::svg_writer::{number, CompactPath, Document, Path};
 
-/// How [`to_svg`] writes the outline.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SvgOptions {
-    /// Largest distance, in pixels, between a rational segment and the polynomial cubics
-    /// that draw it. Non-positive or non-finite values are replaced by the default.
-    /// Default: 0.02.
-    pub bound: f64,
-    /// Decimals of every coordinate, at most [`MAX_PRECISION`]. Default: 2 (0.01 px),
-    /// the fewest whose rounding (half a unit) stays within half the default bound.
-    pub precision: usize,
-    /// The fill colour, any SVG paint (escaped when written). Default: `#000000`.
-    pub fill: String,
-}
-
-impl Default for SvgOptions {
-    fn default() -> Self {
-        SvgOptions {
-            bound: DEFAULT_BOUND,
-            precision: precision_for(DEFAULT_BOUND),
-            fill: "#000000".to_string(),
-        }
-    }
-}
-
-/// The default approximation bound, in pixels.
-const DEFAULT_BOUND: f64 = DEFAULT_DRAWING_BOUND;
-
-impl SvgOptions {
-    /// Options matched to a fitting tolerance: the approximation bound of
-    /// `drawing_bound` (a twentieth of the tolerance, clamped to [0.005, 0.05] px), and
-    /// coordinates with the fewest decimals whose rounding stays within half the bound (2
-    /// for tolerances from 0.2 px, 3 below). A non-positive or non-finite tolerance gives
-    /// the defaults.
-    pub fn for_tolerance(tolerance: f64) -> Self {
-        let bound = drawing_bound(tolerance);
-        SvgOptions {
-            bound,
-            precision: precision_for(bound),
-            ..SvgOptions::default()
-        }
-    }
-
-    /// The bound actually used: [`SvgOptions::bound`] if it is a positive number.
-    pub(crate) fn effective_bound(&self) -> f64 {
-        effective_bound(self.bound)
-    }
-}
-
-/// The fewest decimals (at most [`MAX_PRECISION`]) whose unit is at most `bound`, so that
-/// rounding (half a unit) moves a point by at most half the bound.
-fn precision_for(bound: f64) -> usize {
-    decimals_for(effective_bound(bound))
-}
-
-/// `bound` if it is a positive finite number, else the default.
-pub(crate) fn effective_bound(bound: f64) -> f64 {
-    if bound.is_finite() && bound > 0.0 {
-        bound
-    } else {
-        DEFAULT_BOUND
-    }
-}
+/// Width of the line of `stroke_only` outlines, in pixels.
+pub(crate) const STROKE_WIDTH: f64 = 1.0;
 
 /// Writes the traced outline as an SVG document (see the module docs for the layout).
 /// Deterministic: the same result and options give the same bytes.
-pub fn to_svg(result: &TraceResult, opts: &SvgOptions) -> String {
-    let precision = opts.precision.min(MAX_PRECISION);
+pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
+    let precision = opts.effective_precision();
     let bound = opts.effective_bound();
-    let mut doc = pixel_document(result.image.width, result.image.height, 1);
+    let (width, height) = (result.image.width, result.image.height);
+    let mut doc = if opts.size == Default::default() {
+        pixel_document(width, height, 1)
+    } else {
+        sized_document(width, height, opts)
+    };
     let contours = &result.contours;
-    let mut holes_of: Vec<Vec<usize>> = vec![Vec::new(); contours.len()];
-    for (i, c) in contours.iter().enumerate() {
-        if !c.is_hole {
-            continue;
-        }
-        match c.parent {
-            Some(p) if p < contours.len() && !contours[p].is_hole => holes_of[p].push(i),
-            _ => {
-                if !c.segments.is_empty() {
-                    doc.comment(&format!(
-                        "contour {i} skipped: a hole without an outer border"
-                    ));
-                }
-            }
-        }
+    let (holes_of, orphans) = holes_of(result);
+    for i in orphans {
+        doc.comment(&format!(
+            "contour {i} skipped: a hole without an outer border"
+        ));
     }
+    let fill = opts.fill.to_string();
     for (i, c) in contours.iter().enumerate() {
         if c.is_hole {
             continue;
@@ -135,16 +70,38 @@ pub fn to_svg(result: &TraceResult, opts: &SvgOptions) -> String {
                 }
             }
         }
-        if !data.is_empty() {
-            doc.add(
-                Path::new()
-                    .set("fill", opts.fill.as_str())
-                    .set("fill-rule", "evenodd")
-                    .set("d", data),
-            );
+        if data.is_empty() {
+            continue;
         }
+        let path = if opts.stroke_only {
+            Path::new()
+                .set("fill", "none")
+                .set("stroke", fill.as_str())
+                .set("stroke-width", STROKE_WIDTH)
+                .set("d", data)
+        } else {
+            Path::new()
+                .set("fill", fill.as_str())
+                .set("fill-rule", "evenodd")
+                .set("d", data)
+        };
+        doc.add(path);
     }
     doc.finish()
+}
+
+/// A document in pixel units (`viewBox="0 0 W H"`) whose `width` and `height` are the
+/// options' size in its unit (`12.7mm`; plain numbers for pixels).
+fn sized_document(width: u32, height: u32, opts: &ExportOptions) -> Document {
+    let (w, h) = (f64::from(width), f64::from(height));
+    let unit = opts.size.unit;
+    let k = opts.size.unit_per_pixel();
+    let precision = opts.precision_in(unit);
+    let suffix = if unit == Unit::Px { "" } else { unit.name() };
+    let length = |x: f64| format!("{}{suffix}", number(x * k, precision));
+    Document::new(w, h, [0.0, 0.0, w, h], 0)
+        .set("width", length(w))
+        .set("height", length(h))
 }
 
 /// A document in input pixel units (`viewBox="0 0 W H"`), shown `zoom` times larger.
@@ -228,28 +185,10 @@ pub(crate) fn contour_path_data(
     ContourPath::Data(w.finish())
 }
 
-/// True when a cubic draws a straight line from its start to its end: both inner control
-/// points lie within `tolerance` of the chord and between its ends, so the curve (inside
-/// the hull of its control points) stays within `tolerance` of the line drawn instead.
-fn is_straight(c: &CubicBez, tolerance: f64) -> bool {
-    let [p0, p1, p2, p3] = c.points;
-    let chord = p3 - p0;
-    let length = chord.length();
-    if length <= tolerance {
-        return false;
-    }
-    let u = chord * (1.0 / length);
-    [p1, p2].iter().all(|&p| {
-        let d = p - p0;
-        let along = d.dot(u);
-        d.cross(u).abs() <= tolerance && along >= -tolerance && along <= length + tolerance
-    })
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::curve::{approximate_with_cubics, RationalCubic};
+    use crate::curve::{approximate_with_cubics, CubicBez, RationalCubic};
     use crate::fit::{FittedSegment, Joint, JointKind, SegmentError};
     use crate::geom::Point;
     use crate::trace::ImageInfo;
@@ -380,7 +319,7 @@ pub(crate) mod tests {
     #[test]
     fn circle_path_has_every_coordinate_right() {
         let c = circle(Point::new(30.0, 20.0), 12.0, false, None);
-        let svg = to_svg(&result(64, 48, vec![c.clone()]), &SvgOptions::default());
+        let svg = to_svg(&result(64, 48, vec![c.clone()]), &ExportOptions::default());
         let data = path_data(&svg);
         assert_eq!(data.len(), 1);
         let cmds = parse_path(&data[0]);
@@ -430,7 +369,7 @@ pub(crate) mod tests {
         let island = circle(Point::new(32.0, 32.0), 4.0, false, Some(1));
         let svg = to_svg(
             &result(64, 64, vec![outer, hole, island]),
-            &SvgOptions::default(),
+            &ExportOptions::default(),
         );
         assert!(svg.starts_with(
             "<svg height=\"64\" viewBox=\"0 0 64 64\" width=\"64\" xmlns=\"http://www.w3.org/2000/svg\">"
@@ -452,14 +391,14 @@ pub(crate) mod tests {
             64,
             vec![circle(Point::new(32.123456, 31.987654), 20.0, false, None)],
         );
-        let opts = SvgOptions {
+        let opts = ExportOptions {
             precision: 1,
-            fill: "url(#a)\"<x>".to_string(),
-            ..SvgOptions::default()
+            fill: crate::export::Rgb([0x12, 0xab, 0xff]),
+            ..ExportOptions::default()
         };
         let a = to_svg(&r, &opts);
         assert_eq!(a, to_svg(&r, &opts));
-        assert!(a.contains("fill=\"url(#a)&quot;&lt;x&gt;\""));
+        assert!(a.contains("fill=\"#12abff\""));
         for d in path_data(&a) {
             for (_, numbers) in parse_path(&d) {
                 for x in numbers {
@@ -480,7 +419,7 @@ pub(crate) mod tests {
         empty.segments.clear();
         let svg = to_svg(
             &result(64, 64, vec![broken, orphan, empty]),
-            &SvgOptions::default(),
+            &ExportOptions::default(),
         );
         assert!(svg.contains("<!-- contour 0 skipped: non-finite coordinates -->"));
         assert!(svg.contains("<!-- contour 1 skipped: a hole without an outer border -->"));
@@ -494,7 +433,7 @@ pub(crate) mod tests {
         for s in &mut c.segments {
             s.curve.weights = [1.0, 1.0];
         }
-        let svg = to_svg(&result(64, 64, vec![c.clone()]), &SvgOptions::default());
+        let svg = to_svg(&result(64, 64, vec![c.clone()]), &ExportOptions::default());
         let cmds = parse_path(&path_data(&svg)[0]);
         assert_eq!(cmds.len(), 6);
         for (cmd, s) in cmds[1..5].iter().zip(&c.segments) {
@@ -508,11 +447,11 @@ pub(crate) mod tests {
 
     #[test]
     fn for_tolerance_clamps_the_bound() {
-        assert_eq!(SvgOptions::for_tolerance(0.4).bound, 0.02);
-        assert_eq!(SvgOptions::for_tolerance(0.01).bound, 0.005);
-        assert_eq!(SvgOptions::for_tolerance(5.0).bound, 0.05);
-        assert_eq!(SvgOptions::for_tolerance(f64::NAN).bound, 0.02);
-        assert_eq!(SvgOptions::for_tolerance(-1.0), SvgOptions::default());
+        assert_eq!(ExportOptions::for_tolerance(0.4).bound, 0.02);
+        assert_eq!(ExportOptions::for_tolerance(0.01).bound, 0.005);
+        assert_eq!(ExportOptions::for_tolerance(5.0).bound, 0.05);
+        assert_eq!(ExportOptions::for_tolerance(f64::NAN).bound, 0.02);
+        assert_eq!(ExportOptions::for_tolerance(-1.0), ExportOptions::default());
     }
 
     #[test]
@@ -520,7 +459,10 @@ pub(crate) mod tests {
         use resvg::{tiny_skia, usvg};
         let outer = circle(Point::new(32.0, 32.0), 25.0, false, None);
         let hole = circle(Point::new(32.0, 32.0), 10.0, true, Some(0));
-        let svg = to_svg(&result(64, 64, vec![outer, hole]), &SvgOptions::default());
+        let svg = to_svg(
+            &result(64, 64, vec![outer, hole]),
+            &ExportOptions::default(),
+        );
         let tree = usvg::Tree::from_str(&svg, &usvg::Options::default()).unwrap();
         let mut pixmap = tiny_skia::Pixmap::new(64, 64).unwrap();
         resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
@@ -570,7 +512,7 @@ pub(crate) mod tests {
             s.curve.weights = [1.0, 1.0];
             c.segments.push(s);
         }
-        let opts = SvgOptions::default();
+        let opts = ExportOptions::default();
         assert_eq!(opts.precision, 2);
         let svg = to_svg(&result(1000, 800, vec![c.clone()]), &opts);
         let cmds = parse_path(&path_data(&svg)[0]);
@@ -617,7 +559,7 @@ pub(crate) mod tests {
             s.curve.weights = [1.0, 1.0];
             c.segments.push(s);
         }
-        let svg = to_svg(&result(64, 64, vec![c]), &SvgOptions::default());
+        let svg = to_svg(&result(64, 64, vec![c]), &ExportOptions::default());
         let d = &path_data(&svg)[0];
         assert_eq!(
             d, "M10 10h40c.1 9 .1 21 0 30l-37.5 3.25-2.5-33.25z",

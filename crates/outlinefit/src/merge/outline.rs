@@ -124,22 +124,25 @@ impl MergedCurve {
     }
 }
 
-/// What the SVG draws of `contour` with its `merged` curves, in order: for each segment
-/// (or run of segments replaced by a merged curve) its start point and its polynomial
-/// cubics. A merged run that wraps past the end of the segment list makes the walk start
-/// at its first segment.
-pub(crate) fn drawing_pieces(
+/// One piece of a contour as drawn: a fitted segment, or a run of segments replaced by a
+/// merged curve.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Piece<'a> {
+    /// Segment `k` of the contour, drawn as it was fitted.
+    Segment(usize),
+    /// A merged curve, drawn in place of its run of segments.
+    Merged(&'a MergedCurve),
+}
+
+/// The pieces of `contour` with its `merged` curves, in drawing order. A merged run that
+/// wraps past the end of the segment list makes the walk start at its first segment.
+pub(crate) fn walk_pieces<'a>(
     contour: &FittedContour,
-    merged: &[MergedCurve],
-    bound: f64,
-) -> Vec<(Point, Vec<CubicBez>)> {
+    merged: &'a [MergedCurve],
+) -> Vec<Piece<'a>> {
     let n = contour.segments.len();
-    let segment = |k: usize| {
-        let s = &contour.segments[k];
-        (s.curve.points[0], s.drawn_cubics(bound).into_owned())
-    };
     if merged.is_empty() {
-        return (0..n).map(segment).collect();
+        return (0..n).map(Piece::Segment).collect();
     }
     let start = merged
         .iter()
@@ -151,16 +154,39 @@ pub(crate) fn drawing_pieces(
         let k = (start + walked) % n;
         match merged.iter().find(|m| m.first_segment == k) {
             Some(m) if m.segment_count >= 1 => {
-                out.push((contour.segments[k].curve.points[0], m.center_cubics(bound)));
+                out.push(Piece::Merged(m));
                 walked += m.segment_count;
             }
             _ => {
-                out.push(segment(k));
+                out.push(Piece::Segment(k));
                 walked += 1;
             }
         }
     }
     out
+}
+
+/// What the SVG draws of `contour` with its `merged` curves, in order: for each segment
+/// (or run of segments replaced by a merged curve) its start point and its polynomial
+/// cubics ([`walk_pieces`]).
+pub(crate) fn drawing_pieces(
+    contour: &FittedContour,
+    merged: &[MergedCurve],
+    bound: f64,
+) -> Vec<(Point, Vec<CubicBez>)> {
+    walk_pieces(contour, merged)
+        .into_iter()
+        .map(|piece| match piece {
+            Piece::Segment(k) => {
+                let s = &contour.segments[k];
+                (s.curve.points[0], s.drawn_cubics(bound).into_owned())
+            }
+            Piece::Merged(m) => (
+                contour.segments[m.first_segment].curve.points[0],
+                m.center_cubics(bound),
+            ),
+        })
+        .collect()
 }
 
 /// Number of curves drawn for `contour` with its `merged` curves: segments not replaced
