@@ -199,22 +199,26 @@ fn same_seed_gives_identical_outputs_on_one_and_two_threads() {
 
 #[test]
 fn an_output_named_for_another_format_is_refused() {
-    // `-o x.pdf` wrote SVG into a .pdf file without a word.
+    // `-o x.pdf` once wrote SVG into a .pdf file without a word; now the ending chooses
+    // the format, and an ending that names no output format, or another one than
+    // --format, is refused.
     let dir = scratch("formats");
     let input = common::samples_dir().join("s.png");
     for (option, name, says) in [
-        ("-o", "x.pdf", "-o writes SVG, not PDF"),
-        ("-o", "x.png", "-o writes SVG, not PNG"),
+        ("-o", "x.png", "x.png: PNG is not an output format"),
+        ("-b", "x.pdf", "--format svg writes SVG, not PDF"),
         ("--report", "r.csv", "--report writes JSON, not CSV"),
         ("--csv", "r.json", "--csv writes CSV, not JSON"),
         ("--overlay", "o.pdf", "--overlay writes SVG, not PDF"),
     ] {
         let path = dir.join(name);
         let mut cmd = bin();
-        cmd.arg("trace").arg(&input).arg(option).arg(&path);
-        if option != "-o" {
-            cmd.arg("-o").arg(dir.join("ok.svg"));
-        }
+        cmd.arg("trace").arg(&input);
+        match option {
+            "-o" => cmd.arg("-o").arg(&path),
+            "-b" => cmd.args(["-b", "svg", "-o"]).arg(&path),
+            _ => cmd.arg(option).arg(&path).arg("-o").arg(dir.join("ok.svg")),
+        };
         let out = cmd.output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{option} {name}: {err}");

@@ -86,73 +86,176 @@ pub(crate) fn optimizer_names() -> PossibleValuesParser {
 }
 
 /// How outlines are found and segmented: options shared by `trace`, `batch` and
-/// `compare`.
+/// `compare`. Everyday options show under `-h`; `--help` adds the rest under their
+/// headings. potrace's names for the same settings are accepted (see the README's table).
 #[derive(Args, Debug, Clone)]
 pub(crate) struct ShapeArgs {
-    /// Largest distance (px) allowed between a data point and its curve (lsq).
-    /// 0.3 px sits well above the ~0.05 px noise of sub-pixel edges, and on the development
-    /// corpus it beats potrace's area error by 2.8× (64 px glyphs) to 3.3× (256 px) with
-    /// fewer segments; 0.4 saves ~10% of segments but misses the 64 px area target.
+    /// Largest distance (px) allowed between an edge point and its curve.
+    ///
+    /// Largest distance (px) allowed between an edge point and its curve. 0.3 px sits
+    /// well above the ~0.05 px noise of sub-pixel edges, and on the development corpus it
+    /// beats potrace's area error by 2.8× (64 px glyphs) to 3.3× (256 px) with fewer
+    /// segments; 0.4 saves ~10% of segments but misses the 64 px area target.
+    /// [potrace: -O/--opttolerance, same number: both bound how far a curve may stray,
+    /// potrace's from its polygon, ours from the edge points]
     #[arg(
         long,
+        short = 'O',
+        visible_alias = "opttolerance",
         default_value_t = Config::DEFAULT.tolerance,
         value_name = "PX",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        help_heading = "Tracing"
     )]
     pub(crate) tolerance: f64,
-    /// Turning angle (degrees) above which a point is a corner (G0 joint).
+    /// Turning angle (degrees) above which a point is a corner, a joint where the outline
+    /// may turn sharply [G0 joint]; smaller angles are smooth joints [G1].
     #[arg(
         long,
         default_value_t = Config::DEFAULT.corner_angle,
         value_name = "DEG",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        help_heading = "Tracing",
+        hide_short_help = true
     )]
     pub(crate) corner_angle: f64,
-    /// Drop shapes and holes smaller than this area (px²), like potrace's turdsize.
+    /// potrace's corner threshold, 0 < A < 4/3 (larger: fewer corners): the same as
+    /// --corner-angle 135·A (monotone, and equal to potrace's at both ends: near 0 every
+    /// bend is a corner, near 4/3 none is; potrace's own test also depends on its
+    /// polygon's edge lengths, so no formula matches it everywhere).
+    #[arg(
+        long = "alphamax",
+        short = 'a',
+        value_name = "A",
+        allow_negative_numbers = true,
+        conflicts_with = "corner_angle",
+        help_heading = "Tracing",
+        hide_short_help = true
+    )]
+    pub(crate) alphamax: Option<f64>,
+    /// Drop shapes and holes smaller than this area (px²).
+    ///
+    /// Drop shapes and holes smaller than this area (px²): specks of dust, noise.
     #[arg(
         long,
         default_value_t = Config::DEFAULT.min_area,
         value_name = "PX2",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        help_heading = "Tracing"
     )]
     pub(crate) min_area: f64,
+    /// potrace's speck size: drop shapes and holes of at most N pixels, the same as
+    /// --min-area N+1 (areas of pixel outlines are whole numbers).
+    #[arg(
+        long = "turdsize",
+        short = 't',
+        value_name = "N",
+        allow_negative_numbers = true,
+        value_parser = whole::<u32>,
+        conflicts_with = "min_area",
+        help_heading = "Tracing",
+        hide_short_help = true
+    )]
+    pub(crate) turdsize: Option<u32>,
+    /// Pixels darker than this (0–255) are the shape [default: Otsu's level].
+    ///
     /// Foreground threshold, 0–255: pixels darker than this are the shape (lighter with
     /// --invert; more opaque when an image with transparency traces its alpha). Default:
     /// Otsu's level; the report's "threshold" gives the one used, on the same scale.
-    #[arg(long, value_name = "0-255", allow_negative_numbers = true, value_parser = whole::<u8>)]
+    #[arg(
+        long,
+        value_name = "0-255",
+        allow_negative_numbers = true,
+        value_parser = whole::<u8>,
+        help_heading = "Input"
+    )]
     pub(crate) threshold: Option<u8>,
+    /// potrace's threshold, 0–1: pixels darker than L × 255 are the shape, the same as
+    /// --threshold ⌈255·L⌉.
+    #[arg(
+        long = "blacklevel",
+        short = 'k',
+        value_name = "L",
+        allow_negative_numbers = true,
+        conflicts_with = "threshold",
+        help_heading = "Input",
+        hide_short_help = true
+    )]
+    pub(crate) blacklevel: Option<f64>,
     /// How the threshold applies: one for the whole image (global), or after the paper's
     /// uneven lighting is divided out (local; for scans and photos of pages). auto
     /// chooses local only when the global threshold would paint large areas of unevenly
     /// lit paper as ink; the report's "threshold_mode" says which was used. Images traced
     /// from their alpha channel always use global.
-    #[arg(long, value_enum, default_value = "auto", value_name = "MODE")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "auto",
+        value_name = "MODE",
+        help_heading = "Input",
+        hide_short_help = true
+    )]
     pub(crate) threshold_mode: ThresholdModeArg,
     /// Trace the luminance (transparent pixels count as white paper) even when at least a
     /// tenth of the image is transparent, which otherwise traces its alpha channel.
-    #[arg(long)]
+    #[arg(long, help_heading = "Input", hide_short_help = true)]
     pub(crate) luminance: bool,
     /// Trace the alpha channel (opaque is the shape) even when less than a tenth of the
     /// image is transparent, which otherwise traces the luminance.
-    #[arg(long, conflicts_with = "luminance")]
+    #[arg(
+        long,
+        conflicts_with = "luminance",
+        help_heading = "Input",
+        hide_short_help = true
+    )]
     pub(crate) alpha: bool,
+    /// Trace light shapes on a dark background.
+    ///
     /// Light shapes on a dark background (or inverted alpha) are the foreground.
-    #[arg(long)]
+    /// [potrace: -i/--invert]
+    #[arg(long, short = 'i', help_heading = "Input")]
     pub(crate) invert: bool,
     /// Which frame of an animated GIF, PNG or WebP, or page of a TIFF file, to trace,
     /// from 0. A file with several gets a note saying which was traced.
-    #[arg(long, default_value_t = Config::DEFAULT.frame, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>)]
+    #[arg(long, default_value_t = Config::DEFAULT.frame, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>, help_heading = "Input", hide_short_help = true)]
     pub(crate) frame: u32,
     /// Refuse images with more pixels than this (protects memory).
-    #[arg(long, default_value_t = Config::DEFAULT.max_pixels, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.max_pixels, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>, help_heading = "Input", hide_short_help = true)]
     pub(crate) max_pixels: u64,
 }
 
 impl ShapeArgs {
-    /// The default configuration with these tracing settings.
-    pub(crate) fn config(&self) -> Config {
-        Config {
-            threshold: self.threshold,
+    /// The default configuration with these tracing settings; fails on a potrace-named
+    /// value outside its range.
+    pub(crate) fn config(&self) -> outlinefit::Result<Config> {
+        let bad = |name: &'static str, message: String| outlinefit::Error::InvalidOption {
+            name,
+            message,
+        };
+        let threshold = match self.blacklevel {
+            None => self.threshold,
+            Some(l) if (0.0..=1.0).contains(&l) => Some((255.0 * l).ceil() as u8),
+            Some(l) => {
+                return Err(bad(
+                    "blacklevel",
+                    format!("must be between 0 and 1, not {l}"),
+                ))
+            }
+        };
+        let corner_angle =
+            match self.alphamax {
+                None => self.corner_angle,
+                Some(a) if a > 0.0 && a < 4.0 / 3.0 => 135.0 * a,
+                Some(a) => return Err(bad(
+                    "alphamax",
+                    format!(
+                        "must be above 0 and below 4/3 (every joint a corner, or none), not {a}"
+                    ),
+                )),
+            };
+        let min_area = self.turdsize.map_or(self.min_area, |t| f64::from(t) + 1.0);
+        Ok(Config {
+            threshold,
             alpha: match (self.alpha, self.luminance) {
                 (true, _) => AlphaRule::Alpha,
                 (_, true) => AlphaRule::Luminance,
@@ -162,11 +265,11 @@ impl ShapeArgs {
             threshold_mode: self.threshold_mode.into(),
             max_pixels: self.max_pixels,
             frame: self.frame,
-            min_area: self.min_area,
-            corner_angle: self.corner_angle,
+            min_area,
+            corner_angle,
             tolerance: self.tolerance,
             ..Config::default()
-        }
+        })
     }
 }
 
@@ -175,71 +278,81 @@ impl ShapeArgs {
 pub(crate) struct FitArgs {
     #[command(flatten)]
     pub(crate) shape: ShapeArgs,
-    /// Fitting method. `lsq` (default): separable least squares with error-driven
-    /// splitting. Any other name refits the lsq segmentation with that metaheuristic at
-    /// fixed centripetal parameters: hs (harmony search), ga (genetic algorithm), pso
-    /// (particle swarm), gwo (grey wolf), cs / ics (cuckoo search, improved), fwa
-    /// (fireworks), so / beeso (snake optimizer, enhanced), de (differential evolution).
-    #[arg(long, default_value = Config::DEFAULT.optimizer.name(), value_name = "NAME", value_parser = optimizer_names())]
+    /// How each piece is fitted. `lsq` (default): least squares, split where the error
+    /// is too large [separable least squares with error-driven splitting]. Any other name
+    /// refits lsq's pieces with that search method from the papers, at fixed centripetal
+    /// parameters: hs (harmony search), ga (genetic algorithm), pso (particle swarm), gwo
+    /// (grey wolf), cs / ics (cuckoo search, improved), fwa (fireworks), so / beeso (snake
+    /// optimizer, enhanced), de (differential evolution).
+    #[arg(long, default_value = Config::DEFAULT.optimizer.name(), value_name = "NAME", value_parser = optimizer_names(), help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) optimizer: String,
-    /// What a metaheuristic searches: `weights` (w1, w2; control points by least squares,
-    /// reaches the optimum) or `full` (the HS paper's C1, C2, w1, w2).
-    #[arg(long, value_enum, default_value_t = Config::DEFAULT.search.into())]
+    /// What a search method varies: `weights` (the two inner weights, control points by
+    /// least squares; reaches the optimum) or `full` (control points and weights, as the
+    /// harmony-search paper does [C1, C2, w1, w2]).
+    #[arg(long, value_enum, default_value_t = Config::DEFAULT.search.into(), help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) search: SearchArg,
-    /// Objective evaluations per segment for a metaheuristic.
-    #[arg(long, default_value_t = Config::DEFAULT.budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    /// Evaluations of the error per piece for a search method [objective evaluations].
+    #[arg(long, default_value_t = Config::DEFAULT.budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>, help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) budget: u64,
-    /// Widen the `full` search's control-point box by this factor (1 = the paper's box of
-    /// Eq. 9, the extent of each segment's data, which can exclude the optimum).
+    /// Widen the region where `full` looks for control points by this factor (1: the
+    /// extent of each piece's data, which can exclude the best curve [the paper's Eq. 9
+    /// box]).
     #[arg(
         long,
         default_value_t = Config::DEFAULT.search_box_scale,
         value_name = "S",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        help_heading = "Fitting (research)",
+        hide_short_help = true
     )]
     pub(crate) search_box_scale: f64,
-    /// Record each segment's best-so-far error after every evaluation in the JSON report
-    /// (metaheuristics only; large).
-    #[arg(long)]
+    /// Record each piece's best error so far after every evaluation in the JSON report
+    /// (search methods only; large) [convergence history].
+    #[arg(long, help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) history: bool,
     /// Seed of every random choice; the same seed gives the same output on any number of
     /// threads.
-    #[arg(long, default_value_t = Config::DEFAULT.seed, allow_negative_numbers = true, value_parser = whole::<u64>)]
+    #[arg(long, default_value_t = Config::DEFAULT.seed, allow_negative_numbers = true, value_parser = whole::<u64>, help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) seed: u64,
     /// Write 0 for every time in reports, so reports are byte-identical across runs.
-    #[arg(long)]
+    #[arg(long, help_heading = "Reports", hide_short_help = true)]
     pub(crate) no_timings: bool,
-    /// After fitting, merge runs of smooth segments into single disk Wang–Ball curves whose
-    /// center line stays within --tolerance of the data; the disk radii carry the fit-error
-    /// band. The SVG draws merged curves (as cubics), the report lists them, --overlay
-    /// shows their bands.
-    #[arg(long)]
+    /// After fitting, join runs of smooth pieces into single curves of higher degree whose
+    /// centre line stays within --tolerance of the data, with a band of the fit's error
+    /// around it [disk Wang–Ball curves]. The outline draws them (as cubics), the report
+    /// lists them, --overlay shows their bands.
+    #[arg(long, help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) merge: bool,
-    /// Degree of merged curves (3–20).
-    #[arg(long, default_value_t = Config::DEFAULT.merge_degree, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>)]
+    /// Degree of joined curves with --merge (3–20).
+    #[arg(long, default_value_t = Config::DEFAULT.merge_degree, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>, help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) merge_degree: usize,
-    /// Where smooth break points go: `curvature` (curvature analysis and error-driven
-    /// splitting) or `optimize` (same corners and segment count, smooth joints moved by
-    /// --break-optimizer to lower the total error; never worse, typically a few times
-    /// slower than curvature).
-    #[arg(long, default_value = Config::DEFAULT.breaks.name(), value_name = "MODE")]
+    /// Where smooth joints between pieces go: `curvature` (where the outline bends, then
+    /// split where the error is too large) or `optimize` (same corners and number of
+    /// pieces, smooth joints moved by --break-optimizer to lower the total error; never
+    /// worse, typically a few times slower) [break points].
+    #[arg(long, default_value = Config::DEFAULT.breaks.name(), value_name = "MODE", help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) breaks: String,
-    /// The metaheuristic that places break points with --breaks optimize (fwa: fireworks,
-    /// as in the paper; any name of --optimizer except lsq).
-    #[arg(long, default_value = Config::DEFAULT.break_optimizer.name(), value_name = "NAME")]
+    /// The search method that places joints with --breaks optimize (fwa: fireworks, as in
+    /// the paper; any name of --optimizer except lsq).
+    #[arg(long, default_value = Config::DEFAULT.break_optimizer.name(), value_name = "NAME", help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) break_optimizer: String,
-    /// Objective evaluations per movable smooth joint with --breaks optimize.
-    #[arg(long, default_value_t = Config::DEFAULT.break_budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>)]
+    /// Evaluations of the error per movable smooth joint with --breaks optimize.
+    #[arg(long, default_value_t = Config::DEFAULT.break_budget, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>, help_heading = "Fitting (research)", hide_short_help = true)]
     pub(crate) break_budget: u64,
-    /// Fail (exit 1, no SVG written) when the drawn outline does not match the input after
-    /// repair: a data point farther from the drawn path than the tolerance allows, or a
-    /// lost or invented region. Without it such an image gets a warning line and
+    /// Fail (exit 1, no outline written) when the drawn outline does not match the input
+    /// after repair: an edge point farther from the drawn path than the tolerance allows,
+    /// or a lost or invented region. Without it such an image gets a warning line and
     /// `"held": false` in the report.
-    #[arg(long)]
+    #[arg(long, help_heading = "Checking", hide_short_help = true)]
     pub(crate) strict: bool,
     /// Skip the end-to-end check of the drawn outline against the input and its repairs
     /// (faster; nothing then notices a lost or invented part).
-    #[arg(long, conflicts_with = "strict")]
+    #[arg(
+        long,
+        conflicts_with = "strict",
+        help_heading = "Checking",
+        hide_short_help = true
+    )]
     pub(crate) no_check: bool,
 }
 
@@ -270,7 +383,7 @@ impl FitArgs {
             })?,
             break_budget: self.break_budget,
             check: !self.no_check,
-            ..self.shape.config()
+            ..self.shape.config()?
         })
     }
 }

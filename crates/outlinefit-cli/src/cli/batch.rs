@@ -1,14 +1,14 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
 use super::args::FitArgs;
+use super::format::FormatArgs;
 use super::messages::{error_line, fidelity_problem, panic_message, trace_warnings};
 use super::output::resolve_output;
 use anyhow::{bail, Context};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use outlinefit::io::{remove_stale_temporaries, write_atomic, write_atomic_with};
-use outlinefit::{report, trace_file, Config, TraceResult};
-use outlinefit::{to_svg, ExportOptions};
+use outlinefit::{export, report, trace_file, Config, ExportOptions, Format, TraceResult};
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -24,7 +24,8 @@ const IMAGE_EXTENSIONS: &[&str] = &[
 pub(crate) struct BatchArgs {
     /// Folder of images.
     input: PathBuf,
-    /// Output folder (created if missing); receives <name>.svg, <name>.json and summary.csv.
+    /// Output folder (created if missing); receives <name>.svg (or the --format's ending),
+    /// <name>.json and summary.csv.
     #[arg(short = 'o', long = "output", value_name = "OUTDIR")]
     output: PathBuf,
     /// Worker threads (default: all cores; at most 8 per core). Results do not depend on
@@ -40,16 +41,19 @@ pub(crate) struct BatchArgs {
     /// are links (to their targets).
     #[arg(long)]
     follow_symlinks: bool,
-    /// Skip images whose SVG already exists in OUTDIR.
+    /// Skip images whose outline (in the --format) already exists in OUTDIR.
     #[arg(long)]
     skip_existing: bool,
     /// Process only shard K of N (1-based): the files whose position in the sorted list is
     /// K−1 modulo N, for splitting a huge folder over array jobs.
     #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
-    /// Write only the SVGs (no per-image JSON report).
-    #[arg(long)]
+    /// Write only the outlines (no per-image JSON report); the name is older than
+    /// --format and holds for every format.
+    #[arg(long, visible_alias = "outline-only")]
     svg_only: bool,
+    #[command(flatten)]
+    output_format: FormatArgs,
     #[command(flatten)]
     fit: FitArgs,
 }
@@ -98,6 +102,15 @@ struct Row {
 pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     let config = args.fit.config()?;
     config.validate()?;
+    let format = args.output_format.format_for(None)?;
+    let export_options = args.output_format.options(config.tolerance, format)?;
+    if let Some(note) = args.output_format.note(format) {
+        eprintln!("{note}");
+    }
+    let writing = Writing {
+        format,
+        options: export_options,
+    };
     if !args.input.is_dir() {
         bail!("{} is not a folder", args.input.display());
     }
@@ -153,7 +166,7 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     let rows: Vec<Row> = pool.install(|| {
         jobs.par_iter()
             .map(|job| {
-                let row = process(job, args, &config);
+                let row = process(job, args, &config, &writing);
                 bar.inc(1);
                 if row.status == "failed" {
                     // Decoding errors already name the file.
@@ -256,10 +269,16 @@ fn with_suffix(base: &Path, suffix: &str) -> PathBuf {
     PathBuf::from(s)
 }
 
-fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
+/// The outline's format and how it is written.
+struct Writing {
+    format: Format,
+    options: ExportOptions,
+}
+
+fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> Row {
     let file = job.input.display().to_string();
     let base = args.output.join(&job.stem);
-    let svg_path = with_suffix(&base, ".svg");
+    let out_path = with_suffix(&base, &format!(".{}", writing.format.extension()));
     let mut row = Row {
         file,
         status: "ok",
@@ -274,7 +293,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
         warnings: Vec::new(),
         seconds: 0.0,
     };
-    if args.skip_existing && svg_path.exists() {
+    if args.skip_existing && out_path.exists() {
         row.status = "skipped";
         return row;
     }
@@ -283,7 +302,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
     // panic message on standard error reports) fails this file's row, and the batch goes on.
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(
         || -> anyhow::Result<TraceResult> {
-            if let Some(parent) = svg_path.parent() {
+            if let Some(parent) = out_path.parent() {
                 std::fs::create_dir_all(parent)
                     .with_context(|| format!("cannot create {}", parent.display()))?;
             }
@@ -299,11 +318,8 @@ fn process(job: &Job, args: &BatchArgs, config: &Config) -> Row {
                     report::write_json(w, config, &[(&row.file, &result)], false)
                 })?;
             }
-            let target = resolve_output(&svg_path, args.follow_symlinks)?;
-            write_atomic(
-                &target,
-                to_svg(&result, &ExportOptions::for_tolerance(config.tolerance)).as_bytes(),
-            )?;
+            let target = resolve_output(&out_path, args.follow_symlinks)?;
+            write_atomic(&target, &export(&result, writing.format, &writing.options)?)?;
             Ok(result)
         },
     ))

@@ -87,7 +87,7 @@ pub(crate) fn run(args: &CompareArgs) -> anyhow::Result<i32> {
         history_points: args.history_points,
         trace: outlinefit::Config {
             timings: false,
-            ..args.shape.config()
+            ..args.shape.config()?
         },
     };
     opts.validate()?;

@@ -4,6 +4,7 @@ mod args;
 mod batch;
 mod bspline;
 mod compare;
+mod format;
 mod merge;
 mod messages;
 mod output;
@@ -43,11 +44,12 @@ Exit status:
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Trace one image into an SVG outline (and optional JSON/CSV reports and overlay).
+    /// Trace one image into an outline: SVG, PDF, EPS, DXF or GeoJSON, with optional
+    /// JSON/CSV reports and an overlay.
     #[command(after_help = EXIT_STATUS)]
     Trace(trace::TraceArgs),
-    /// Trace every image of a folder in parallel into OUTDIR/<name>.svg and <name>.json,
-    /// with OUTDIR/summary.csv.
+    /// Trace every image of a folder in parallel into OUTDIR/<name>.svg (or another
+    /// format) and <name>.json, with OUTDIR/summary.csv.
     #[command(after_help = EXIT_STATUS)]
     Batch(batch::BatchArgs),
     /// Compare optimizers on the same segmentation of one or more images: many seeded runs

@@ -165,8 +165,3 @@ pub(crate) fn not_regular(p: &Path) -> Option<&'static str> {
     let kind = file_kind(&meta.file_type());
     (kind != "regular file").then_some(kind)
 }
-
-/// The default SVG path for an input: the input's name with `.svg`, in the same folder.
-pub(crate) fn default_svg_path(input: &std::path::Path) -> PathBuf {
-    input.with_extension("svg")
-}

@@ -1,64 +1,82 @@
-//! `outlinefit trace`: one image in, an SVG and optional reports out.
+//! `outlinefit trace`: one image in, an outline (SVG, PDF, EPS, DXF, GeoJSON) and optional
+//! reports out.
 
 use super::args::FitArgs;
+use super::format::{is_known_ending, FormatArgs};
 use super::messages::{fidelity_problem, trace_warnings};
-use super::output::{
-    check_distinct, default_svg_path, is_dash, not_regular, resolve_output, write_output,
-};
+use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_output};
 use super::progress::TerminalProgress;
 use anyhow::{bail, Context};
 use clap::Args;
+use outlinefit::export;
 use outlinefit::io::ensure_output_dir_exists;
 use outlinefit::{report, trace_bitmap_with_progress, Bitmap};
 use outlinefit::{to_overlay_svg, OverlayOptions};
-use outlinefit::{to_svg, ExportOptions};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `trace`.
 #[derive(Args, Debug)]
 pub(crate) struct TraceArgs {
+    /// The image to trace (`-`: standard input).
+    ///
     /// The image to trace (PNG, JPEG, BMP, GIF, TIFF, WebP, PBM/PGM/PPM); `-` reads it from
     /// standard input.
     input: PathBuf,
-    /// Where to write the SVG; `-` for standard output. Default: the input's path with
-    /// the extension `.svg` (standard output when the input is `-`).
-    #[arg(short = 'o', long = "output", value_name = "OUT.svg")]
+    /// Where to write the outline (`-`: standard output).
+    ///
+    /// Its ending chooses the format (.svg, .pdf, .eps, .ps, .dxf, .geojson) unless
+    /// --format does. Default: the input's path with the format's ending (standard output
+    /// when the input is `-`).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "OUT",
+        help_heading = "Output"
+    )]
     output: Option<PathBuf>,
-    /// Write the JSON report (configuration, every segment, every joint) here (`-`:
-    /// standard output).
-    #[arg(long, value_name = "R.json")]
+    #[command(flatten)]
+    output_format: FormatArgs,
+    /// Write the JSON report here: every segment, its error and joints.
+    ///
+    /// Write the JSON report here: the configuration, every segment with its control
+    /// points, weights and errors, every joint, the fidelity check (`-`: standard
+    /// output).
+    #[arg(long, value_name = "R.json", help_heading = "Reports")]
     report: Option<PathBuf>,
     /// Write the CSV report (one row per segment) here (`-`: standard output).
-    #[arg(long, value_name = "R.csv")]
+    #[arg(
+        long,
+        value_name = "R.csv",
+        help_heading = "Reports",
+        hide_short_help = true
+    )]
     csv: Option<PathBuf>,
     /// Write a diagnostic SVG: input image, data points, corners, smooth joints, control
     /// polygons.
-    #[arg(long, value_name = "O.svg")]
+    #[arg(
+        long,
+        value_name = "O.svg",
+        help_heading = "Reports",
+        hide_short_help = true
+    )]
     overlay: Option<PathBuf>,
     /// Include every data point's curve parameter in the JSON report.
-    #[arg(long)]
+    #[arg(long, help_heading = "Reports", hide_short_help = true)]
     params: bool,
     /// Write through symbolic links to their targets (without it, an output that is a
     /// link is refused). Devices, FIFOs and folders are always refused.
-    #[arg(long)]
+    #[arg(long, help_heading = "Output", hide_short_help = true)]
     follow_symlinks: bool,
     #[command(flatten)]
     fit: FitArgs,
 }
 
-/// File endings of formats people may ask for by name; an output named with one of them
-/// must be the format its option writes.
-const KNOWN_ENDINGS: &[&str] = &[
-    "svg", "svgz", "pdf", "eps", "ps", "ai", "dxf", "emf", "wmf", "json", "geojson", "csv", "tsv",
-    "txt", "html", "png", "jpg", "jpeg", "gif", "bmp", "tif", "tiff", "webp", "pbm", "pgm", "ppm",
-    "pnm", "ico", "avif", "qoi", "tga", "exr", "hdr",
-];
-
-/// Refuses an output whose name ends in another format's ending than what `option`
-/// writes (`-o x.pdf` would otherwise get SVG under a PDF name). Endings are compared
-/// without case; a name without one, or with one no format uses, is taken as it is.
-fn check_format(option: &str, path: &Path) -> anyhow::Result<()> {
+/// Refuses a report or overlay whose name ends in another format's ending than what
+/// `option` writes (`--report x.csv` would otherwise get JSON under a CSV name). Endings
+/// are compared without case; a name without one, or with one no format uses, is taken as
+/// it is.
+fn check_report_name(option: &str, path: &Path) -> anyhow::Result<()> {
     let writes = match option {
         "--report" => "json",
         "--csv" => "csv",
@@ -67,9 +85,9 @@ fn check_format(option: &str, path: &Path) -> anyhow::Result<()> {
     let Some(ending) = path.extension().map(|e| e.to_string_lossy().to_lowercase()) else {
         return Ok(());
     };
-    if ending != writes && KNOWN_ENDINGS.contains(&ending.as_str()) {
+    if ending != writes && is_known_ending(&ending) {
         bail!(
-            "{option} {}: {option} writes {}, not {}; give a name ending in .{writes} (other formats are not written yet)",
+            "{option} {}: {option} writes {}, not {}; give a name ending in .{writes}",
             path.display(),
             writes.to_uppercase(),
             ending.to_uppercase()
@@ -81,30 +99,35 @@ fn check_format(option: &str, path: &Path) -> anyhow::Result<()> {
 pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     let config = args.fit.config()?;
     config.validate()?;
+    let format = args.output_format.format_for(args.output.as_deref())?;
+    let export_options = args.output_format.options(config.tolerance, format)?;
+    if let Some(note) = args.output_format.note(format) {
+        eprintln!("{note}");
+    }
     let from_stdin = is_dash(&args.input);
-    let svg_path = match &args.output {
+    let out_path = match &args.output {
         Some(p) => p.clone(),
         None if from_stdin => PathBuf::from("-"),
         None => {
             if args.input.starts_with("/dev") || args.input.starts_with("/proc") {
                 bail!(
-                    "{} names a device or process file; give the SVG's path with -o (or -o - for standard output)",
+                    "{} names a device or process file; give the output's path with -o (or -o - for standard output)",
                     args.input.display()
                 );
             }
             if let Some(kind) = not_regular(&args.input) {
                 bail!(
-                    "{} is a {kind}; give the SVG's path with -o (or -o - for standard output)",
+                    "{} is a {kind}; give the output's path with -o (or -o - for standard output)",
                     args.input.display()
                 );
             }
-            default_svg_path(&args.input)
+            args.input.with_extension(format.extension())
         }
     };
     // Check every output before any work: distinct files, none the input, each a regular
     // file (or a link followed on request) in an existing folder.
     let named = [
-        ("-o", Some(svg_path.as_path())),
+        ("-o", Some(out_path.as_path())),
         ("--report", args.report.as_deref()),
         ("--csv", args.csv.as_deref()),
         ("--overlay", args.overlay.as_deref()),
@@ -129,8 +152,8 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         .map(|((o, _), t)| (*o, t.as_path()))
         .collect();
     check_distinct(&targets, Some(&args.input))?;
-    for (option, p) in &named {
-        check_format(option, p)?;
+    for (option, p) in named.iter().skip(1) {
+        check_report_name(option, p)?;
     }
 
     let progress = TerminalProgress::new();
@@ -160,7 +183,8 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     for w in trace_warnings(&name, &config, &result) {
         eprintln!("{w}");
     }
-    // Reports first, the SVG last: a finished SVG means everything else is there too.
+    // Reports first, the outline last: a finished outline means everything else is there
+    // too.
     for ((option, _), target) in named.iter().zip(&resolved).skip(1) {
         let names = [(name.as_str(), &result)];
         write_output(target, |w| match *option {
@@ -172,7 +196,7 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
             ),
         })?;
     }
-    let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
-    write_output(&resolved[0], |w| w.write_all(svg.as_bytes()))?;
+    let outline = export(&result, format, &export_options)?;
+    write_output(&resolved[0], |w| w.write_all(&outline))?;
     Ok(0)
 }

@@ -13,13 +13,16 @@
 //!
 //! Holes are loops of their own, in the same layer as their outer borders (`outline`);
 //! coordinates have y up and the origin at the image's bottom-left corner, in the
-//! options' unit (`$INSUNITS` says which: unitless for pixels). The drawing itself
-//! (header, tables, handles) is written by the `dxf` crate.
+//! options' unit (R2000's `$INSUNITS` says which: unitless for pixels; R12 has no such
+//! variable). The R2000 drawing (header, tables, handles, objects) is written by the
+//! `dxf` crate; R12 is written here, because the crate puts R2000's subclass markers
+//! into R12 tables, which strict readers refuse. R12 needs only a header, the layer
+//! table and the entities.
 
 use super::options::{ExportOptions, Unit};
 use super::shapes::{drawn_loop, exact_pieces, flatten, holes_of, Drawn, FlipY};
 use crate::trace::TraceResult;
-use dxf::entities::{Entity, EntityType, Polyline, Spline, Vertex};
+use dxf::entities::{Entity, EntityType, Spline};
 use dxf::enums::{AcadVersion, Units};
 use dxf::tables::Layer;
 use dxf::{Color, Drawing, Point};
@@ -49,17 +52,16 @@ pub(crate) fn to_dxf(
         Unit::In => Units::Inches,
         Unit::Pt => return Err(DxfError::Unit(Unit::Pt)),
     };
+    if r12 {
+        return Ok(to_dxf_r12(result, opts).into_bytes());
+    }
     let flip = FlipY {
         height: f64::from(result.image.height),
         per_pixel: opts.size.unit_per_pixel(),
     };
     let bound = opts.effective_bound();
     let mut drawing = Drawing::new();
-    drawing.header.version = if r12 {
-        AcadVersion::R12
-    } else {
-        AcadVersion::R2000
-    };
+    drawing.header.version = AcadVersion::R2000;
     drawing.header.default_drawing_units = units;
     let w = f64::from(result.image.width) * flip.per_pixel;
     let h = f64::from(result.image.height) * flip.per_pixel;
@@ -84,23 +86,10 @@ pub(crate) fn to_dxf(
             continue;
         }
         let merged = result.merged_of(i);
-        let specific = if r12 {
-            let straight = 0.5 * 10f64.powi(-(opts.effective_precision() as i32));
-            let Drawn::Loop(l) = drawn_loop(contour, merged, bound, straight) else {
-                continue;
-            };
-            let mut polyline = Polyline::default();
-            polyline.set_is_closed(true);
-            for p in flatten(&l, bound) {
-                polyline.add_vertex(&mut drawing, Vertex::new(to_point(p)));
-            }
-            EntityType::Polyline(polyline)
-        } else {
-            let Some(pieces) = exact_pieces(contour, merged, bound) else {
-                continue;
-            };
-            EntityType::Spline(spline(&pieces, &to_point))
+        let Some(pieces) = exact_pieces(contour, merged, bound) else {
+            continue;
         };
+        let specific = EntityType::Spline(spline(&pieces, &to_point));
         let mut entity = Entity::new(specific);
         entity.common.layer = LAYER.to_string();
         drawing.add_entity(entity);
@@ -138,4 +127,93 @@ fn spline(
         .chain(std::iter::repeat_n(n as f64, 4))
         .collect();
     s
+}
+
+/// The R12 drawing: closed polylines in the layer [`LAYER`], written as group codes.
+fn to_dxf_r12(result: &TraceResult, opts: &ExportOptions) -> String {
+    let flip = FlipY {
+        height: f64::from(result.image.height),
+        per_pixel: opts.size.unit_per_pixel(),
+    };
+    let bound = opts.effective_bound();
+    let straight = 0.5 * 10f64.powi(-(opts.effective_precision() as i32));
+    let precision = opts.precision_in(opts.size.unit);
+    let n = |x: f64| crate::svg_writer::number(x, precision);
+    let (w, h) = (
+        f64::from(result.image.width) * flip.per_pixel,
+        f64::from(result.image.height) * flip.per_pixel,
+    );
+    let mut out = String::new();
+    let mut pair = |code: u32, value: &str| {
+        out.push_str(&format!("{code:>3}\n{value}\n"));
+    };
+    pair(0, "SECTION");
+    pair(2, "HEADER");
+    pair(9, "$ACADVER");
+    pair(1, "AC1009");
+    for (name, x, y) in [
+        ("$EXTMIN", 0.0, 0.0),
+        ("$EXTMAX", w, h),
+        ("$LIMMIN", 0.0, 0.0),
+        ("$LIMMAX", w, h),
+    ] {
+        pair(9, name);
+        pair(10, &n(x));
+        pair(20, &n(y));
+    }
+    pair(0, "ENDSEC");
+    pair(0, "SECTION");
+    pair(2, "TABLES");
+    pair(0, "TABLE");
+    pair(2, "LTYPE");
+    pair(70, "1");
+    pair(0, "LTYPE");
+    pair(2, "CONTINUOUS");
+    pair(70, "0");
+    pair(3, "Solid line");
+    pair(72, "65");
+    pair(73, "0");
+    pair(40, "0.0");
+    pair(0, "ENDTAB");
+    pair(0, "TABLE");
+    pair(2, "LAYER");
+    pair(70, "1");
+    pair(0, "LAYER");
+    pair(2, LAYER);
+    pair(70, "0");
+    pair(62, "7");
+    pair(6, "CONTINUOUS");
+    pair(0, "ENDTAB");
+    pair(0, "ENDSEC");
+    pair(0, "SECTION");
+    pair(2, "ENTITIES");
+    let (_, orphans) = holes_of(result);
+    for (i, contour) in result.contours.iter().enumerate() {
+        if orphans.contains(&i) {
+            continue;
+        }
+        let Drawn::Loop(l) = drawn_loop(contour, result.merged_of(i), bound, straight) else {
+            continue;
+        };
+        pair(0, "POLYLINE");
+        pair(8, LAYER);
+        pair(66, "1");
+        pair(10, "0.0");
+        pair(20, "0.0");
+        pair(30, "0.0");
+        pair(70, "1");
+        for p in flatten(&l, bound) {
+            let q = flip.apply(p);
+            pair(0, "VERTEX");
+            pair(8, LAYER);
+            pair(10, &n(q.x));
+            pair(20, &n(q.y));
+            pair(30, "0.0");
+        }
+        pair(0, "SEQEND");
+        pair(8, LAYER);
+    }
+    pair(0, "ENDSEC");
+    pair(0, "EOF");
+    out
 }
