@@ -5,7 +5,7 @@ mod common;
 
 use common::{bin, scratch};
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Output;
 
 fn files_in(dir: &Path) -> Vec<String> {
@@ -572,4 +572,143 @@ fn a_file_as_first_argument_means_trace() {
     let typo = bin().arg("trcae").output().unwrap();
     assert_eq!(typo.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&typo.stderr).contains("'trace'"));
+}
+
+/// The SVGs under a folder, as paths relative to it.
+fn svgs_under(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    for sub in ["", "sub"] {
+        let d = dir.join(sub);
+        if d.is_dir() {
+            out.extend(
+                files_in(&d)
+                    .into_iter()
+                    .filter(|f| f.ends_with(".svg"))
+                    .map(|f| Path::new(sub).join(f).to_string_lossy().into_owned()),
+            );
+        }
+    }
+    out
+}
+
+#[test]
+fn shards_merge_into_the_summary_of_one_unsharded_run() {
+    let dir = scratch("shards");
+    let input = dir.join("in");
+    std::fs::create_dir_all(input.join("sub")).unwrap();
+    for (sample, name) in [
+        ("glyph_aa.png", "a.png"),
+        ("pear.png", "sub/b.png"),
+        ("s.png", "c.png"),
+        ("e.png", "sub/d.png"),
+        ("glyph_bw.png", "e-f.png"),
+    ] {
+        std::fs::copy(common::samples_dir().join(sample), input.join(name)).unwrap();
+    }
+    let whole = dir.join("whole");
+    let r = batch(&input, &whole, "2", &["--recursive", "--svg-only"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    // Three shards, as three array jobs would run them, each into its own folder.
+    let shards: Vec<PathBuf> = (1..=3).map(|k| dir.join(format!("shard{k}"))).collect();
+    let mut traced = Vec::new();
+    for (k, out) in shards.iter().enumerate() {
+        // The third as a scheduler with 0-based indices would ask for it.
+        let spec = format!("{}/3", k + 1);
+        let index = k.to_string();
+        let shard: Vec<&str> = if k == 2 {
+            vec!["--shard-index", &index, "--shard-count", "3"]
+        } else {
+            vec!["--shard", &spec]
+        };
+        let mut extra = vec!["--recursive", "--svg-only"];
+        extra.extend(shard);
+        let r = batch(&input, out, "1", &extra);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        traced.extend(svgs_under(out));
+    }
+    // The union is the whole folder, no file twice, and each outline is the unsharded
+    // run's.
+    traced.sort();
+    let mut all = svgs_under(&whole);
+    all.sort();
+    for f in &all {
+        let from_shard = shards.iter().find_map(|s| std::fs::read(s.join(f)).ok());
+        assert_eq!(
+            from_shard,
+            Some(std::fs::read(whole.join(f)).unwrap()),
+            "{f}"
+        );
+    }
+    assert_eq!(traced, all);
+    assert_eq!(all.len(), 5);
+    let merged = dir.join("merged.csv");
+    let merge = |extra: &[&str], summaries: &[&Path]| {
+        bin()
+            .args(["summary", "merge"])
+            .args(summaries)
+            .arg("-o")
+            .arg(&merged)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let by_folder: Vec<&Path> = shards.iter().map(PathBuf::as_path).collect();
+    let input_arg = input.to_str().unwrap();
+    let r = merge(&["--input", input_arg, "--recursive"], &by_folder);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(
+        std::fs::read_to_string(&merged).unwrap(),
+        std::fs::read_to_string(whole.join("summary.csv")).unwrap()
+    );
+    std::fs::remove_file(&merged).unwrap();
+    // A shard given twice, a shard missing, a shard unfinished: refused, nothing written.
+    let twice = [by_folder[0], by_folder[1], by_folder[2], by_folder[0]];
+    let missing = [by_folder[0], by_folder[2]];
+    let unfinished = dir.join("unfinished.csv");
+    std::fs::write(
+        &unfinished,
+        "file,status,segments,curves,sum_sq,max_distance,fidelity_held,max_deviation,largest_region,seconds,error\n,unfinished,,,,,,,,,the run has not finished\n",
+    )
+    .unwrap();
+    for (summaries, says) in [
+        (&twice[..], "appear in more than one summary"),
+        (&missing[..], "are in no summary"),
+        (
+            &[by_folder[0], unfinished.as_path()][..],
+            "has not finished",
+        ),
+    ] {
+        let r = merge(&["--input", input_arg, "--recursive"], summaries);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{err}");
+        assert!(err.contains(says), "{err}");
+        assert!(!merged.exists());
+    }
+}
+
+#[test]
+fn batch_writes_the_format_asked_for() {
+    let dir = scratch("batch-formats");
+    let input = dir.join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::copy(common::samples_dir().join("s.png"), input.join("s.png")).unwrap();
+    for (format, ending, starts) in [
+        ("pdf", "pdf", &b"%PDF-"[..]),
+        ("dxf", "dxf", &b"  0\r\nSECTION"[..]),
+        ("dxf-r12", "dxf", &b"  0\r\nSECTION"[..]),
+        ("geojson", "geojson", &b"{\"features\""[..]),
+        ("eps", "eps", &b"%!PS-Adobe-3.0 EPSF"[..]),
+    ] {
+        let out = dir.join(format);
+        let r = batch(&input, &out, "1", &["--format", format]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let bytes = std::fs::read(out.join(format!("s.{ending}"))).unwrap();
+        assert!(bytes.starts_with(starts), "{format}");
+        assert!(out.join("s.json").exists() && !out.join("s.svg").exists());
+        // --skip-existing looks for the outline in that format.
+        let again = batch(&input, &out, "1", &["--format", format, "--skip-existing"]);
+        assert!(again.status.success());
+        let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+        assert!(summary.contains(",skipped,"), "{format}: {summary}");
+    }
 }

@@ -242,17 +242,18 @@ impl ShapeArgs {
                 ))
             }
         };
-        let corner_angle =
-            match self.alphamax {
-                None => self.corner_angle,
-                Some(a) if a > 0.0 && a < 4.0 / 3.0 => 135.0 * a,
-                Some(a) => return Err(bad(
+        let corner_angle = match self.alphamax {
+            None => self.corner_angle,
+            Some(a) if a > 0.0 && a < 4.0 / 3.0 => 135.0 * a,
+            Some(a) => {
+                return Err(bad(
                     "alphamax",
                     format!(
                         "must be above 0 and below 4/3 (every joint a corner, or none), not {a}"
                     ),
-                )),
-            };
+                ))
+            }
+        };
         let min_area = self.turdsize.map_or(self.min_area, |t| f64::from(t) + 1.0);
         Ok(Config {
             threshold,

@@ -1,6 +1,6 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
-use super::args::FitArgs;
+use super::args::{whole, FitArgs};
 use super::format::FormatArgs;
 use super::messages::{error_line, fidelity_problem, panic_message, trace_warnings};
 use super::output::resolve_output;
@@ -48,6 +48,14 @@ pub(crate) struct BatchArgs {
     /// K−1 modulo N, for splitting a huge folder over array jobs.
     #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
+    /// The shard as a 0-based index, with --shard-count: `--shard-index I --shard-count
+    /// N` is `--shard I+1/N` (for schedulers that hand out 0-based indices, such as a
+    /// Kubernetes Indexed Job's JOB_COMPLETION_INDEX).
+    #[arg(long, value_name = "I", requires = "shard_count", conflicts_with = "shard", value_parser = whole::<usize>)]
+    shard_index: Option<usize>,
+    /// Number of shards, with --shard-index.
+    #[arg(long, value_name = "N", requires = "shard_index", value_parser = whole::<usize>)]
+    shard_count: Option<usize>,
     /// Write only the outlines (no per-image JSON report); the name is older than
     /// --format and holds for every format.
     #[arg(long, visible_alias = "outline-only")]
@@ -123,13 +131,18 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
         Some(j) => usize::from(j),
         None => 0,
     };
-    let mut files = Vec::new();
-    let mut visited = HashSet::new();
-    collect_images(&args.input, args, &mut visited, &mut files)
+    let files = list_images(&args.input, args.recursive, args.follow_symlinks)
         .with_context(|| format!("cannot list {}", args.input.display()))?;
-    files.sort();
     let mut jobs = assign_stems(&args.input, files);
-    if let Some((k, n)) = args.shard {
+    let shard = match (args.shard, args.shard_index, args.shard_count) {
+        (Some(shard), _, _) => Some(shard),
+        (None, Some(i), Some(n)) if i < n => Some((i + 1, n)),
+        (None, Some(i), Some(n)) => {
+            bail!("--shard-index {i} is not below --shard-count {n} (indices count from 0)")
+        }
+        _ => None,
+    };
+    if let Some((k, n)) = shard {
         jobs = jobs
             .into_iter()
             .enumerate()
@@ -199,11 +212,26 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
 /// Largest --jobs per core: more threads only add memory (each holds a whole image).
 const MAX_JOBS_PER_CORE: usize = 8;
 
+/// The images `batch` traces in `dir`, sorted: the order of the jobs, of the summary's
+/// rows and of `--shard`'s split.
+pub(crate) fn list_images(
+    dir: &Path,
+    recursive: bool,
+    follow_symlinks: bool,
+) -> std::io::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let mut visited = HashSet::new();
+    collect_images(dir, recursive, follow_symlinks, &mut visited, &mut files)?;
+    files.sort();
+    Ok(files)
+}
+
 /// The images of `dir` (and its sub-folders with --recursive): links to folders only with
 /// --follow-symlinks, and each folder once (by its canonical path), so a link loop ends.
 fn collect_images(
     dir: &Path,
-    args: &BatchArgs,
+    recursive: bool,
+    follow_symlinks: bool,
     visited: &mut HashSet<PathBuf>,
     out: &mut Vec<PathBuf>,
 ) -> std::io::Result<()> {
@@ -215,8 +243,8 @@ fn collect_images(
         let path = entry.path();
         let link = entry.file_type()?.is_symlink();
         if path.is_dir() {
-            if args.recursive && (!link || args.follow_symlinks) {
-                collect_images(&path, args, visited, out)?;
+            if recursive && (!link || follow_symlinks) {
+                collect_images(&path, recursive, follow_symlinks, visited, out)?;
             }
         } else if path
             .extension()

@@ -10,6 +10,7 @@ mod messages;
 mod output;
 mod progress;
 mod reduce;
+mod summary;
 mod surface;
 mod trace;
 
@@ -52,6 +53,10 @@ enum Command {
     /// format) and <name>.json, with OUTDIR/summary.csv.
     #[command(after_help = EXIT_STATUS)]
     Batch(batch::BatchArgs),
+    /// Work on batch summaries: `summary merge` joins the summary.csv files of a batch
+    /// split into shards (--shard K/N) and checks that every input was traced once.
+    #[command(subcommand)]
+    Summary(summary::SummaryCommand),
     /// Compare optimizers on the same segmentation of one or more images: many seeded runs
     /// each, descriptive statistics, normality, F-, t-tests and ANOVA, charts.
     #[command(after_help = EXIT_STATUS)]
@@ -84,6 +89,7 @@ pub(crate) fn run() -> anyhow::Result<i32> {
     match cli.command {
         Command::Trace(args) => trace::run(&args),
         Command::Batch(args) => batch::run(&args),
+        Command::Summary(command) => summary::run(&command),
         Command::Compare(args) => compare::run(&args),
         Command::Reduce(args) => reduce::run(&args),
         Command::Bspline(args) => bspline::run(&args),

@@ -145,7 +145,8 @@ fn to_dxf_r12(result: &TraceResult, opts: &ExportOptions) -> String {
     );
     let mut out = String::new();
     let mut pair = |code: u32, value: &str| {
-        out.push_str(&format!("{code:>3}\n{value}\n"));
+        // CR LF, as AutoCAD writes (and the R2000 writer does).
+        out.push_str(&format!("{code:>3}\r\n{value}\r\n"));
     };
     pair(0, "SECTION");
     pair(2, "HEADER");
