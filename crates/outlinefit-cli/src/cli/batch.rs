@@ -24,14 +24,20 @@ const IMAGE_EXTENSIONS: &[&str] = &[
 pub(crate) struct BatchArgs {
     /// Folder of images.
     input: PathBuf,
+    /// Output folder: <name>.svg (or the --format's ending), <name>.json, summary.csv.
+    ///
     /// Output folder (created if missing); receives <name>.svg (or the --format's ending),
     /// <name>.json and summary.csv.
     #[arg(short = 'o', long = "output", value_name = "OUTDIR")]
     output: PathBuf,
+    /// Worker threads [default: all cores].
+    ///
     /// Worker threads (default: all cores; at most 8 per core). Results do not depend on
     /// it.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..), allow_negative_numbers = true)]
     jobs: Option<u16>,
+    /// Also trace images in sub-folders.
+    ///
     /// Also trace images in sub-folders (their outputs mirror the folder structure). Links
     /// to folders are not followed unless --follow-symlinks is given; no folder is visited
     /// twice.
@@ -39,23 +45,28 @@ pub(crate) struct BatchArgs {
     recursive: bool,
     /// Follow symbolic links to folders with --recursive, and write through outputs that
     /// are links (to their targets).
-    #[arg(long)]
+    #[arg(long, hide_short_help = true)]
     follow_symlinks: bool,
     /// Skip images whose outline (in the --format) already exists in OUTDIR.
     #[arg(long)]
     skip_existing: bool,
+    /// Process only shard K of N (1-based), for array jobs.
+    ///
     /// Process only shard K of N (1-based): the files whose position in the sorted list is
-    /// K−1 modulo N, for splitting a huge folder over array jobs.
+    /// K−1 modulo N, for splitting a huge folder over array jobs (docs/cluster.md;
+    /// `outlinefit summary merge` joins their summaries).
     #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
     /// The shard as a 0-based index, with --shard-count: `--shard-index I --shard-count
     /// N` is `--shard I+1/N` (for schedulers that hand out 0-based indices, such as a
     /// Kubernetes Indexed Job's JOB_COMPLETION_INDEX).
-    #[arg(long, value_name = "I", requires = "shard_count", conflicts_with = "shard", value_parser = whole::<usize>)]
+    #[arg(long, value_name = "I", requires = "shard_count", conflicts_with = "shard", value_parser = whole::<usize>, hide_short_help = true)]
     shard_index: Option<usize>,
     /// Number of shards, with --shard-index.
-    #[arg(long, value_name = "N", requires = "shard_index", value_parser = whole::<usize>)]
+    #[arg(long, value_name = "N", requires = "shard_index", value_parser = whole::<usize>, hide_short_help = true)]
     shard_count: Option<usize>,
+    /// Write only the outlines (no per-image JSON report).
+    ///
     /// Write only the outlines (no per-image JSON report); the name is older than
     /// --format and holds for every format.
     #[arg(long, visible_alias = "outline-only")]

@@ -98,7 +98,61 @@ pub(crate) fn to_dxf(
     drawing
         .save(&mut out)
         .map_err(|e| DxfError::Write(e.to_string()))?;
-    Ok(out)
+    Ok(reproducible(&out))
+}
+
+/// The fixed creation and update date written: 1 January 2000, 00:00, as a Julian date.
+const FIXED_DATE: &str = "2451544.5";
+
+/// The drawing with the header's time stamps and GUIDs pinned. The `dxf` crate stamps
+/// every drawing with the time it was made ($TDCREATE, $TDUPDATE and their UTC twins)
+/// and random GUIDs ($FINGERPRINTGUID, $VERSIONGUID), so the same trace would give
+/// different bytes at every run; here the dates become [`FIXED_DATE`] and the GUIDs a
+/// hash of the entities, so that the same outline gives the same file.
+fn reproducible(bytes: &[u8]) -> Vec<u8> {
+    let text = String::from_utf8_lossy(bytes);
+    let entities = text.find("ENTITIES").map_or("", |k| &text[k..]);
+    // FNV-1a, twice with different offsets, for 128 bits; then the UUID version (8,
+    // custom) and variant bits.
+    let fnv = |offset: u64| {
+        entities.bytes().fold(offset, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+    };
+    let mut id =
+        (u128::from(fnv(0xcbf2_9ce4_8422_2325)) << 64) | u128::from(fnv(0x6c62_272e_07bb_0142));
+    id = (id & !(0xf << 76)) | (0x8 << 76);
+    id = (id & !(0x3 << 62)) | (0x2 << 62);
+    let hex = format!("{id:032x}");
+    let guid = format!(
+        "{}-{}-{}-{}-{}",
+        &hex[0..8],
+        &hex[8..12],
+        &hex[12..16],
+        &hex[16..20],
+        &hex[20..32]
+    );
+    let mut out = String::with_capacity(text.len());
+    // Group codes (even lines) and values (odd lines) alternate; a header variable's
+    // name is a value, and the value after the next group code is what is pinned.
+    let mut pending: Option<&str> = None;
+    for (k, line) in text.split_inclusive('\n').enumerate() {
+        let value = line.trim_end_matches(['\r', '\n']);
+        if k % 2 == 1 {
+            if let Some(new) = pending.take() {
+                out.push_str(new);
+                out.push_str(&line[value.len()..]);
+                continue;
+            }
+            pending = match value {
+                "$TDCREATE" | "$TDUCREATE" | "$TDUPDATE" | "$TDUUPDATE" => Some(FIXED_DATE),
+                "$FINGERPRINTGUID" | "$VERSIONGUID" => Some(guid.as_str()),
+                _ => None,
+            };
+        }
+        out.push_str(line);
+    }
+    out.into_bytes()
 }
 
 /// The closed chain of rational cubics as one exact degree-3 spline.
