@@ -35,7 +35,8 @@ pub const LAYER: &str = "outline";
 pub(crate) enum DxfError {
     /// DXF has no unit for it.
     Unit(Unit),
-    /// The `dxf` crate failed.
+    /// The `dxf` crate failed (it cannot fail on a buffer in memory, but for a missing
+    /// source of random bytes when it starts a drawing).
     Write(String),
 }
 
@@ -60,7 +61,14 @@ pub(crate) fn to_dxf(
         per_pixel: opts.size.unit_per_pixel(),
     };
     let bound = opts.effective_bound();
-    let mut drawing = Drawing::new();
+    // The crate draws random GUIDs for a new drawing (replaced below); where the system
+    // has no source of random bytes it panics, which becomes an error here.
+    let mut drawing = std::panic::catch_unwind(Drawing::new).map_err(|_| {
+        DxfError::Write(
+            "the DXF writer found no source of random bytes (/dev/random, /dev/urandom)"
+                .to_string(),
+        )
+    })?;
     drawing.header.version = AcadVersion::R2000;
     drawing.header.default_drawing_units = units;
     let w = f64::from(result.image.width) * flip.per_pixel;

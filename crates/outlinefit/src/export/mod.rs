@@ -41,7 +41,8 @@ use crate::trace::TraceResult;
 /// Writes the outline in `format` with `opts`.
 ///
 /// Errors: [`Error::InvalidOption`] when the size's dpi or scale is not a positive number,
-/// or when DXF is asked for in points (DXF has no such unit).
+/// or when DXF is asked for in points (DXF has no such unit); [`Error::InvalidInput`] when
+/// the DXF writer cannot start a drawing (it needs a source of random bytes).
 pub fn export(result: &TraceResult, format: Format, opts: &ExportOptions) -> Result<Vec<u8>> {
     opts.size.check().map_err(|message| Error::InvalidOption {
         name: "size",
@@ -58,9 +59,9 @@ pub fn export(result: &TraceResult, format: Format, opts: &ExportOptions) -> Res
                     name: "unit",
                     message: format!("DXF has no unit `{unit}`; use px, mm, cm or in"),
                 },
-                dxf::DxfError::Write(message) => Error::InvalidOption {
-                    name: "format",
-                    message: format!("the DXF drawing could not be written: {message}"),
+                dxf::DxfError::Write(message) => Error::InvalidInput {
+                    what: "DXF output".to_string(),
+                    message,
                 },
             })?,
         Format::GeoJson => to_geojson(result, opts).into_bytes(),
