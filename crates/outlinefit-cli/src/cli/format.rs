@@ -101,12 +101,8 @@ impl FormatArgs {
             dpi: self.dpi.unwrap_or(DEFAULT_DPI),
             scale: self.scale,
         };
-        if !(size.dpi.is_finite() && size.dpi > 0.0) {
-            bail!("--dpi must be a positive number, not {}", size.dpi);
-        }
-        if !(size.scale.is_finite() && size.scale > 0.0) {
-            bail!("--scale must be a positive number, not {}", size.scale);
-        }
+        size.check()
+            .map_err(|message| anyhow::anyhow!("--{message}"))?;
         if matches!(format, Format::Dxf | Format::DxfR12) && self.unit == Unit::Pt {
             bail!("--unit pt: DXF has no point unit; use px, mm, cm or in");
         }

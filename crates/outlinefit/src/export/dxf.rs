@@ -198,7 +198,7 @@ fn to_dxf_r12(result: &TraceResult, opts: &ExportOptions) -> String {
         per_pixel: opts.size.unit_per_pixel(),
     };
     let bound = opts.effective_bound();
-    let straight = 0.5 * 10f64.powi(-(opts.effective_precision() as i32));
+    let straight = opts.half_unit();
     let precision = opts.precision_in(opts.size.unit);
     let n = |x: f64| crate::svg_writer::number(x, precision);
     let (w, h) = (

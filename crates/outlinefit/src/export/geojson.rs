@@ -12,13 +12,14 @@
 
 use super::options::ExportOptions;
 use super::shapes::{drawn_loop, flatten, holes_of, signed_area2, Drawn, FlipY};
+use crate::geom::Point;
 use crate::trace::TraceResult;
 use serde_json::{json, Value};
 
 /// Writes the outline as a GeoJSON document (see the module docs).
 pub fn to_geojson(result: &TraceResult, opts: &ExportOptions) -> String {
     let bound = opts.effective_bound();
-    let straight = 0.5 * 10f64.powi(-(opts.effective_precision() as i32));
+    let straight = opts.half_unit();
     let flip = FlipY {
         height: f64::from(result.image.height),
         per_pixel: opts.size.unit_per_pixel(),
@@ -37,11 +38,11 @@ pub fn to_geojson(result: &TraceResult, opts: &ExportOptions) -> String {
         else {
             return None;
         };
-        let mut points: Vec<[f64; 2]> = flatten(&l, bound)
+        let mut points: Vec<Point> = flatten(&l, bound)
             .into_iter()
             .map(|p| {
                 let q = flip.apply(p);
-                [round(q.x), round(q.y)]
+                Point::new(round(q.x), round(q.y))
             })
             .collect();
         points.dedup();
@@ -51,16 +52,12 @@ pub fn to_geojson(result: &TraceResult, opts: &ExportOptions) -> String {
         if points.len() < 3 {
             return None;
         }
-        let as_points: Vec<crate::geom::Point> = points
-            .iter()
-            .map(|p| crate::geom::Point::new(p[0], p[1]))
-            .collect();
         // Counter-clockwise (positive area, y up) for outer borders, clockwise for holes.
-        if (signed_area2(&as_points) > 0.0) != outer {
+        if (signed_area2(&points) > 0.0) != outer {
             points.reverse();
         }
         points.push(points[0]);
-        Some(json!(points))
+        Some(json!(points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>()))
     };
     let (holes, _) = holes_of(result);
     let fill = opts.fill.to_string();

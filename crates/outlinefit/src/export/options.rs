@@ -229,8 +229,9 @@ impl Size {
         self.per_pixel(self.unit)
     }
 
-    /// Whether the size is usable: dpi and scale positive and finite.
-    pub(crate) fn check(&self) -> Result<(), String> {
+    /// Whether the size is usable: dpi and scale positive and finite; the message names
+    /// the one that is not.
+    pub fn check(&self) -> Result<(), String> {
         if !(self.dpi.is_finite() && self.dpi > 0.0) {
             return Err(format!("dpi must be a positive number, not {}", self.dpi));
         }
@@ -344,6 +345,12 @@ impl ExportOptions {
     /// The precision actually used, at most [`MAX_PRECISION`].
     pub(crate) fn effective_precision(&self) -> usize {
         self.precision.min(MAX_PRECISION)
+    }
+
+    /// Half the unit of the last decimal written, in pixels: what rounding may move a
+    /// point, and so how close to its chord a cubic must be to be written as a line.
+    pub(crate) fn half_unit(&self) -> f64 {
+        0.5 * 10f64.powi(-(self.effective_precision() as i32))
     }
 
     /// Decimals of a coordinate written in `unit`: the pixel precision's resolution, in

@@ -24,7 +24,7 @@ use pdf_writer::{Filter, Pdf, Rect, Ref};
 fn drawing(result: &TraceResult, opts: &ExportOptions) -> String {
     let precision = opts.effective_precision();
     let bound = opts.effective_bound();
-    let straight = 0.5 * 10f64.powi(-(precision as i32));
+    let straight = opts.half_unit();
     let (holes, orphans) = holes_of(result);
     let mut out = String::new();
     for i in orphans {
@@ -161,20 +161,15 @@ pub fn to_postscript(result: &TraceResult, opts: &ExportOptions, page: bool) -> 
         env!("CARGO_PKG_VERSION"),
         "\n"
     ));
+    let (ws, hs) = (number(w, 3), number(h, 3));
     out.push_str(&format!(
-        "%%BoundingBox: 0 0 {} {}\n%%HiResBoundingBox: 0 0 {} {}\n",
+        "%%BoundingBox: 0 0 {} {}\n%%HiResBoundingBox: 0 0 {ws} {hs}\n",
         w.ceil(),
         h.ceil(),
-        number(w, 3),
-        number(h, 3)
     ));
     out.push_str("%%LanguageLevel: 2\n%%Pages: 1\n");
     if page {
-        out.push_str(&format!(
-            "%%DocumentMedia: image {} {} 0 () ()\n",
-            number(w, 3),
-            number(h, 3)
-        ));
+        out.push_str(&format!("%%DocumentMedia: image {ws} {hs} 0 () ()\n"));
     }
     out.push_str("%%EndComments\n%%BeginProlog\n");
     out.push_str(
@@ -184,9 +179,7 @@ pub fn to_postscript(result: &TraceResult, opts: &ExportOptions, page: bool) -> 
     out.push_str("%%EndProlog\n");
     if page {
         out.push_str(&format!(
-            "%%BeginSetup\n<< /PageSize [{} {}] >> setpagedevice\n%%EndSetup\n",
-            number(w, 3),
-            number(h, 3)
+            "%%BeginSetup\n<< /PageSize [{ws} {hs}] >> setpagedevice\n%%EndSetup\n"
         ));
     }
     out.push_str("%%Page: 1 1\ngsave\n");

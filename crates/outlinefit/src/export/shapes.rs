@@ -63,6 +63,27 @@ pub(crate) enum Drawn {
     NonFinite,
 }
 
+/// What the SVG draws of the contour ([`drawing_pieces`]), or `None` when a coordinate of
+/// its curves or of their cubics is not finite. The contour must have segments.
+pub(crate) fn finite_pieces(
+    contour: &FittedContour,
+    merged: &[MergedCurve],
+    bound: f64,
+) -> Option<Vec<(Point, Vec<CubicBez>)>> {
+    let pieces = drawing_pieces(contour, merged, bound);
+    let finite = contour
+        .segments
+        .iter()
+        .all(|s| s.curve.points.iter().all(|p| p.is_finite()))
+        && pieces.iter().all(|(start, cubics)| {
+            start.is_finite()
+                && cubics
+                    .iter()
+                    .all(|c| c.points.iter().all(|p| p.is_finite()))
+        });
+    finite.then_some(pieces)
+}
+
 /// The contour as drawn: its polynomial cubics within `bound` of the fitted (or merged)
 /// curves, a cubic whose inner control points lie within `straight` of its chord written
 /// as a line, and a line bridging any gap between pieces wider than `straight`.
@@ -75,20 +96,9 @@ pub(crate) fn drawn_loop(
     if contour.segments.is_empty() {
         return Drawn::Empty;
     }
-    let pieces = drawing_pieces(contour, merged, bound);
-    let finite = contour
-        .segments
-        .iter()
-        .all(|s| s.curve.points.iter().all(|p| p.is_finite()))
-        && pieces.iter().all(|(start, cubics)| {
-            start.is_finite()
-                && cubics
-                    .iter()
-                    .all(|c| c.points.iter().all(|p| p.is_finite()))
-        });
-    if !finite {
+    let Some(pieces) = finite_pieces(contour, merged, bound) else {
         return Drawn::NonFinite;
-    }
+    };
     let start = pieces[0].0;
     let mut pen = start;
     let mut cmds = Vec::new();

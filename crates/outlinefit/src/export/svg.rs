@@ -27,9 +27,9 @@
 //! would be filled). Contours without segments have nothing to draw and are skipped.
 
 use super::options::{ExportOptions, Unit};
-use super::shapes::{holes_of, is_straight};
+use super::shapes::{finite_pieces, holes_of, is_straight};
 use crate::fit::FittedContour;
-use crate::merge::outline::{drawing_pieces, MergedCurve};
+use crate::merge::outline::MergedCurve;
 use crate::trace::TraceResult;
 
 use crate::svg_writer::{number, CompactPath, Document, Path};
@@ -137,20 +137,9 @@ pub(crate) fn contour_path_data(
     if contour.segments.is_empty() {
         return ContourPath::Empty;
     }
-    let pieces = drawing_pieces(contour, merged, bound);
-    let finite = contour
-        .segments
-        .iter()
-        .all(|s| s.curve.points.iter().all(|p| p.is_finite()))
-        && pieces.iter().all(|(start, cubics)| {
-            start.is_finite()
-                && cubics
-                    .iter()
-                    .all(|c| c.points.iter().all(|p| p.is_finite()))
-        });
-    if !finite {
+    let Some(pieces) = finite_pieces(contour, merged, bound) else {
         return ContourPath::NonFinite;
-    }
+    };
     let mut w = CompactPath::new(precision);
     let mut pen = w.grid(pieces[0].0);
     w.command('M');
