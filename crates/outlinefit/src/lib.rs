@@ -51,6 +51,7 @@
 //! surface fitting of the papers are the `outlinefit-lab` crate.
 
 mod breaks;
+pub mod colour;
 mod contour;
 pub mod curve;
 mod error;

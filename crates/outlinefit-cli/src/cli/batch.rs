@@ -1,12 +1,14 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
 use super::args::{whole, FitArgs};
+use super::colour::{colour_problem, colour_warnings, ColourArgs};
 use super::format::FormatArgs;
 use super::messages::{error_line, fidelity_problem, panic_message, trace_warnings};
 use super::output::resolve_output;
 use anyhow::{bail, Context};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use outlinefit::colour::{self, ColourOptions, ColourTrace};
 use outlinefit::io::{remove_stale_temporaries, write_atomic, write_atomic_with};
 use outlinefit::{export, report, trace_file, Config, ExportOptions, Format, TraceResult};
 use rayon::prelude::*;
@@ -74,6 +76,8 @@ pub(crate) struct BatchArgs {
     #[command(flatten)]
     output_format: FormatArgs,
     #[command(flatten)]
+    colour: ColourArgs,
+    #[command(flatten)]
     fit: FitArgs,
 }
 
@@ -129,6 +133,7 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
     let writing = Writing {
         format,
         options: export_options,
+        colour: args.colour.options(&config, format)?,
     };
     if !args.input.is_dir() {
         bail!("{} is not a folder", args.input.display());
@@ -312,6 +317,14 @@ fn with_suffix(base: &Path, suffix: &str) -> PathBuf {
 struct Writing {
     format: Format,
     options: ExportOptions,
+    /// Colour tracing (`--palette`), or `None` for one shape.
+    colour: Option<ColourOptions>,
+}
+
+/// What one file's trace gave, for its summary row.
+enum Traced {
+    Shape(TraceResult),
+    Colour(ColourTrace),
 }
 
 fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> Row {
@@ -340,10 +353,31 @@ fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> R
     // Each file is traced in isolation: a panic anywhere in its pipeline (a bug, which the
     // panic message on standard error reports) fails this file's row, and the batch goes on.
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(
-        || -> anyhow::Result<TraceResult> {
+        || -> anyhow::Result<Traced> {
             if let Some(parent) = out_path.parent() {
                 std::fs::create_dir_all(parent)
                     .with_context(|| format!("cannot create {}", parent.display()))?;
+            }
+            if let Some(opts) = &writing.colour {
+                let trace = colour::trace_colour_file(&job.input, config, opts)?;
+                if args.fit.strict {
+                    if let Some(problem) = colour_problem(config, &trace) {
+                        bail!("{problem}; nothing written (--strict)");
+                    }
+                }
+                if !args.svg_only {
+                    let target =
+                        resolve_output(&with_suffix(&base, ".json"), args.follow_symlinks)?;
+                    write_atomic_with(&target, |w| {
+                        colour::write_json(w, config, &row.file, &trace)
+                    })?;
+                }
+                let target = resolve_output(&out_path, args.follow_symlinks)?;
+                write_atomic(
+                    &target,
+                    colour::colour_svg(&trace, &writing.options).as_bytes(),
+                )?;
+                return Ok(Traced::Colour(trace));
             }
             let result = trace_file(&job.input, config)?;
             if args.fit.strict {
@@ -359,7 +393,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> R
             }
             let target = resolve_output(&out_path, args.follow_symlinks)?;
             write_atomic(&target, &export(&result, writing.format, &writing.options)?)?;
-            Ok(result)
+            Ok(Traced::Shape(result))
         },
     ))
     .unwrap_or_else(|panic| {
@@ -369,7 +403,23 @@ fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> R
         ))
     });
     match outcome {
-        Ok(result) => {
+        Ok(Traced::Colour(trace)) => {
+            row.segments = trace.segment_count();
+            row.curves = row.segments;
+            row.max_distance = trace.fidelity.max_deviation;
+            if config.check {
+                row.held = if trace.fidelity.held { "yes" } else { "no" };
+                row.max_deviation = trace.fidelity.max_deviation;
+                row.largest_region = trace.fidelity.largest_region;
+            }
+            row.warnings = colour_warnings(&row.file, config, &trace);
+            row.seconds = if config.timings {
+                started.elapsed().as_secs_f64()
+            } else {
+                0.0
+            };
+        }
+        Ok(Traced::Shape(result)) => {
             row.segments = result.segment_count();
             row.curves = result.curve_count();
             row.sum_sq = result.sum_sq();

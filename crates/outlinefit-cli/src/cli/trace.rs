@@ -2,12 +2,14 @@
 //! reports out.
 
 use super::args::FitArgs;
+use super::colour::{colour_problem, colour_warnings, ColourArgs};
 use super::format::{is_known_ending, FormatArgs};
 use super::messages::{fidelity_problem, trace_warnings};
 use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_output};
 use super::progress::TerminalProgress;
 use anyhow::{bail, Context};
 use clap::Args;
+use outlinefit::colour;
 use outlinefit::export;
 use outlinefit::io::ensure_output_dir_exists;
 use outlinefit::{report, trace_bitmap_with_progress, Bitmap};
@@ -37,6 +39,8 @@ pub(crate) struct TraceArgs {
     output: Option<PathBuf>,
     #[command(flatten)]
     output_format: FormatArgs,
+    #[command(flatten)]
+    colour: ColourArgs,
     /// Write the JSON report here: every segment, its error and joints.
     ///
     /// Write the JSON report here: the configuration, every segment with its control
@@ -104,6 +108,10 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     if let Some(note) = args.output_format.note(format) {
         eprintln!("{note}");
     }
+    let colour = args.colour.options(&config, format)?;
+    if colour.is_some() && args.overlay.is_some() {
+        bail!("--overlay draws one-colour traces; leave it out with --palette");
+    }
     let from_stdin = is_dash(&args.input);
     let out_path = match &args.output {
         Some(p) => p.clone(),
@@ -156,25 +164,52 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         check_report_name(option, p)?;
     }
 
-    let progress = TerminalProgress::new();
-    let bitmap = if from_stdin {
-        let mut bytes = Vec::new();
-        std::io::stdin()
-            .lock()
-            .read_to_end(&mut bytes)
-            .context("cannot read standard input")?;
-        Bitmap::load_bytes(&bytes, Path::new("<stdin>"), &config.raster_options())?
-    } else {
-        Bitmap::load(&args.input, &config.raster_options())?
-    };
-    let result = trace_bitmap_with_progress(&bitmap, &config, &progress);
-    progress.finish();
-    let result = result?;
     let name = if from_stdin {
         "<stdin>".to_string()
     } else {
         args.input.display().to_string()
     };
+    let stdin_bytes = if from_stdin {
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .lock()
+            .read_to_end(&mut bytes)
+            .context("cannot read standard input")?;
+        Some(bytes)
+    } else {
+        None
+    };
+    if let Some(opts) = colour {
+        let trace = match &stdin_bytes {
+            Some(bytes) => colour::trace_colour_bytes(bytes, Path::new("<stdin>"), &config, &opts)?,
+            None => colour::trace_colour_file(&args.input, &config, &opts)?,
+        };
+        if args.fit.strict {
+            if let Some(problem) = colour_problem(&config, &trace) {
+                bail!("{name}: {problem}; nothing written (--strict)");
+            }
+        }
+        for w in colour_warnings(&name, &config, &trace) {
+            eprintln!("{w}");
+        }
+        for ((option, _), target) in named.iter().zip(&resolved).skip(1) {
+            write_output(target, |w| match *option {
+                "--report" => colour::write_json(w, &config, &name, &trace),
+                _ => w.write_all(colour::to_csv(&trace).as_bytes()),
+            })?;
+        }
+        let svg = colour::colour_svg(&trace, &export_options);
+        write_output(&resolved[0], |w| w.write_all(svg.as_bytes()))?;
+        return Ok(0);
+    }
+    let progress = TerminalProgress::new();
+    let bitmap = match &stdin_bytes {
+        Some(bytes) => Bitmap::load_bytes(bytes, Path::new("<stdin>"), &config.raster_options())?,
+        None => Bitmap::load(&args.input, &config.raster_options())?,
+    };
+    let result = trace_bitmap_with_progress(&bitmap, &config, &progress);
+    progress.finish();
+    let result = result?;
     if args.fit.strict {
         if let Some(problem) = fidelity_problem(&config, &result) {
             bail!("{name}: {problem}; nothing written (--strict)");

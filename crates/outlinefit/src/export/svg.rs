@@ -28,7 +28,9 @@
 
 use super::options::{ExportOptions, Unit};
 use super::shapes::{finite_pieces, holes_of, is_straight};
+use crate::curve::CubicBez;
 use crate::fit::FittedContour;
+use crate::geom::Point;
 use crate::merge::outline::MergedCurve;
 use crate::trace::TraceResult;
 
@@ -92,7 +94,7 @@ pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
 
 /// A document in pixel units (`viewBox="0 0 W H"`) whose `width` and `height` are the
 /// options' size in its unit (`12.7mm`; plain numbers for pixels).
-fn sized_document(width: u32, height: u32, opts: &ExportOptions) -> Document {
+pub(crate) fn sized_document(width: u32, height: u32, opts: &ExportOptions) -> Document {
     let (w, h) = (f64::from(width), f64::from(height));
     let unit = opts.size.unit;
     let k = opts.size.unit_per_pixel();
@@ -140,12 +142,18 @@ pub(crate) fn contour_path_data(
     let Some(pieces) = finite_pieces(contour, merged, bound) else {
         return ContourPath::NonFinite;
     };
+    ContourPath::Data(pieces_path_data(&pieces, precision))
+}
+
+/// Path data of one closed loop of pieces, each a start point and the cubics that follow
+/// it (see [`contour_path_data`]).
+pub(crate) fn pieces_path_data(pieces: &[(Point, Vec<CubicBez>)], precision: usize) -> String {
     let mut w = CompactPath::new(precision);
     let mut pen = w.grid(pieces[0].0);
     w.command('M');
     w.number(pen.0);
     w.number(pen.1);
-    for (start, cubics) in &pieces {
+    for (start, cubics) in pieces {
         let start = w.grid(*start);
         if start != pen {
             w.line(pen, start);
@@ -171,7 +179,7 @@ pub(crate) fn contour_path_data(
         }
     }
     w.command('z');
-    ContourPath::Data(w.finish())
+    w.finish()
 }
 
 #[cfg(test)]

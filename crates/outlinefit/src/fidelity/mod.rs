@@ -52,7 +52,7 @@ pub(crate) const FLATTEN_MAX_CHORD: f64 = 2.0;
 /// ways), and |B''| ≤ 6·max(|P0 − 2P1 + P2|, |P1 − 2P2 + P3|), so n steps with
 /// n² ≥ 3/4·max(…)/FLATTEN_ERROR are enough. At least enough that no chord is longer
 /// than [`FLATTEN_MAX_CHORD`]; at most 4096.
-fn flatten_steps(cubic: &CubicBez) -> usize {
+pub(crate) fn flatten_steps(cubic: &CubicBez) -> usize {
     let p = cubic.points;
     let bend = (p[0] - p[1] * 2.0 + p[2])
         .length()

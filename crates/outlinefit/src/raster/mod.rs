@@ -817,6 +817,29 @@ pub(crate) fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
 
 /// [`Bitmap::load_bytes`].
 pub(crate) fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
+    let (img, frames) = decode_bytes(bytes, name, opts)?;
+    let mut bitmap = convert(Cow::Owned(img), opts)?;
+    bitmap.frame = opts.frame;
+    bitmap.frames = frames;
+    Ok(bitmap)
+}
+
+/// Reads and decodes an image file as [`decode_bytes`] does.
+pub(crate) fn decode_file(path: &Path, opts: &RasterOptions) -> Result<(DynamicImage, u32)> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    decode_bytes(&bytes, path, opts)
+}
+
+/// Decodes the frame `opts.frame` of an image file's bytes, within `opts.max_pixels`, with
+/// its orientation applied; also returns the number of frames (pages) of the file.
+pub(crate) fn decode_bytes(
+    bytes: &[u8],
+    name: &Path,
+    opts: &RasterOptions,
+) -> Result<(DynamicImage, u32)> {
     let decode_error = |source| Error::Decode {
         path: name.to_path_buf(),
         source,
@@ -873,10 +896,7 @@ pub(crate) fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Res
         }
         (decode_still(reader, limits, name, &check)?, 1)
     };
-    let mut bitmap = convert(Cow::Owned(img), opts)?;
-    bitmap.frame = opts.frame;
-    bitmap.frames = frames;
-    Ok(bitmap)
+    Ok((img, frames))
 }
 
 /// Decodes a still image (or an animation's first frame) with `limits`, checking its size

@@ -1,0 +1,340 @@
+//! Colour tracing (`--palette`): flat-colour art as regions whose shared boundaries are
+//! fitted once.
+//!
+//! 1. **Palette and pixels** (`palette`): the flat colours, transparency as a colour of its
+//!    own, and every pixel's colour, an anti-aliased pixel taking the colour it is more of.
+//! 2. **Planar map** (`map`): regions (4-connected, the ones below `--min-area` joined to
+//!    their neighbour), boundaries between two regions from junction to junction.
+//! 3. **Edge points** (`edges`): each boundary placed to a fraction of a pixel from the
+//!    mixed pixels along it, junctions where the boundaries' lines meet.
+//! 4. **Fit** (`fit`): each boundary once, with the breaks and the `lsq` fit of one-colour
+//!    outlines; both regions use that same curve, one forwards and one backwards.
+//! 5. **Layers**: one per colour, drawn in order of pixel count (largest first). In the
+//!    `stacked` layout a colour's layer is the union of its regions with every opaque region
+//!    of a later colour connected to them, so each boundary is drawn by the later region
+//!    over an earlier one that extends under it — a renderer's anti-aliasing never shows the
+//!    background through a seam. In the `cutout` layout each layer is exactly its regions,
+//!    and neighbouring layers abut on the same curves (vinyl cutters, screen printing).
+//! 6. **Check** (`check`): the drawn layers rasterised at the pixel centres against the
+//!    input's colours.
+
+mod check;
+mod edges;
+mod fit;
+mod map;
+mod palette;
+mod report;
+mod svg;
+
+pub use check::ColourFidelity;
+pub use palette::{PaletteSize, Swatch};
+pub use report::{to_csv, write_json};
+pub use svg::colour_svg;
+
+use crate::breaks::BreakOptions;
+use crate::error::{Error, Result};
+use crate::fit::lsq::LsqOptions;
+use crate::fit::FittedSegment;
+use crate::geom::Point;
+use crate::raster;
+use crate::trace::Config;
+use image::DynamicImage;
+use map::{Map, VOID_SIDE};
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// How colour layers are drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Layout {
+    /// Each layer extends under the later ones: no seam can show (the default).
+    #[default]
+    Stacked,
+    /// Each layer is exactly its regions; layers abut on shared curves.
+    Cutout,
+}
+
+impl std::str::FromStr for Layout {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "stacked" => Ok(Layout::Stacked),
+            "cutout" => Ok(Layout::Cutout),
+            _ => Err("expected `stacked` or `cutout`".to_string()),
+        }
+    }
+}
+
+/// Options of a colour trace beside the [`Config`] (whose tolerance, corner angle,
+/// `min_area`, `max_pixels` and frame it uses).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct ColourOptions {
+    /// How many colours.
+    pub palette: PaletteSize,
+    /// How layers are drawn.
+    pub layout: Layout,
+}
+
+/// One region: a 4-connected area of one colour.
+#[derive(Clone, Debug, Serialize)]
+pub struct Region {
+    /// Index into [`ColourTrace::palette`] (0 is transparency).
+    pub colour: usize,
+    /// Pixels.
+    pub area: u64,
+}
+
+/// One boundary between two regions (or a region and the transparent outside), fitted
+/// once and used by both.
+#[derive(Clone, Debug, Serialize)]
+pub struct Boundary {
+    /// Region on the right of the boundary's direction (y down), `None` for transparency.
+    pub right: Option<usize>,
+    /// Region on the left.
+    pub left: Option<usize>,
+    /// Palette index of the colour on the right and on the left (0 for transparency).
+    pub colours: [usize; 2],
+    /// True for a closed loop without junctions.
+    pub closed: bool,
+    /// The sub-pixel edge points the segments were fitted to.
+    #[serde(skip)]
+    pub points: Vec<Point>,
+    /// The fitted segments, in order (their `start`/`end` index `points`).
+    pub segments: Vec<FittedSegment>,
+}
+
+impl Boundary {
+    /// Largest point-to-curve distance of its segments.
+    pub fn max_distance(&self) -> f64 {
+        self.segments
+            .iter()
+            .map(|s| s.error.max_distance)
+            .fold(0.0, f64::max)
+    }
+}
+
+/// One drawn layer: a colour and its closed loops, each a list of (boundary, forwards).
+#[derive(Clone, Debug, Serialize)]
+pub struct Layer {
+    /// Palette index.
+    pub colour: usize,
+    /// Closed loops; the layer lies on the right of each.
+    pub loops: Vec<Vec<(usize, bool)>>,
+}
+
+/// The outcome of a colour trace.
+#[derive(Clone, Debug, Serialize)]
+pub struct ColourTrace {
+    /// Image width (px).
+    pub width: u32,
+    /// Image height (px).
+    pub height: u32,
+    /// The palette; index 0 is transparency, never drawn.
+    pub palette: Vec<Swatch>,
+    /// Pixels whose colour was a mix of two palette colours (anti-aliasing).
+    pub mixed_pixels: usize,
+    /// The regions.
+    pub regions: Vec<Region>,
+    /// The boundaries.
+    pub boundaries: Vec<Boundary>,
+    /// How the layers are drawn.
+    pub layout: Layout,
+    /// The layers in drawing order.
+    pub layers: Vec<Layer>,
+    /// The check of the drawn layers against the input.
+    pub fidelity: ColourFidelity,
+    /// Wall time (s), 0 when timing is off.
+    pub seconds: f64,
+}
+
+impl ColourTrace {
+    /// Segments over all boundaries.
+    pub fn segment_count(&self) -> usize {
+        self.boundaries.iter().map(|b| b.segments.len()).sum()
+    }
+}
+
+/// Loads an image file and traces it in colour.
+pub fn trace_colour_file(
+    path: &Path,
+    config: &Config,
+    opts: &ColourOptions,
+) -> Result<ColourTrace> {
+    config.validate()?;
+    let (img, _) = raster::decode_file(path, &config.raster_options())?;
+    trace_colour(&img, config, opts)
+}
+
+/// Decodes an image file's bytes (`name` for messages) and traces it in colour.
+pub fn trace_colour_bytes(
+    bytes: &[u8],
+    name: &Path,
+    config: &Config,
+    opts: &ColourOptions,
+) -> Result<ColourTrace> {
+    config.validate()?;
+    let (img, _) = raster::decode_bytes(bytes, name, &config.raster_options())?;
+    trace_colour(&img, config, opts)
+}
+
+/// Traces an image in colour (see the module docs).
+pub fn trace_colour(
+    img: &DynamicImage,
+    config: &Config,
+    opts: &ColourOptions,
+) -> Result<ColourTrace> {
+    config.validate()?;
+    let started = Instant::now();
+    let rgba = img.to_rgba8();
+    let (w, h) = (rgba.width() as usize, rgba.height() as usize);
+    if w == 0 || h == 0 {
+        return Err(Error::ZeroSize {
+            width: w as u32,
+            height: h as u32,
+        });
+    }
+    let px: Vec<[u8; 4]> = rgba.pixels().map(|p| p.0).collect();
+    drop(rgba);
+    let mut swatches = palette::find_palette(&px, w, h, opts.palette);
+    let colours: Vec<[f32; 4]> = px.iter().map(|p| palette::premultiplied(*p)).collect();
+    drop(px);
+    let (mut label, mixed_pixels) = palette::label_pixels(&colours, w, h, &swatches);
+    let regions = map::regions(&mut label, w, h, config.min_area);
+    for s in swatches.iter_mut() {
+        s.pixels = 0;
+    }
+    for &l in &label {
+        swatches[l as usize].pixels += 1;
+    }
+    let map = Map::new(&regions, w, h);
+    let pixels = edges::Pixels {
+        colours: &colours,
+        label: &label,
+        palette: &swatches,
+        region_colour: &regions.colour,
+    };
+    let lines = edges::chain_polylines(&pixels, &map, mixed_pixels);
+    let breaks = BreakOptions::for_image(config.corner_angle, w as u32, h as u32);
+    let lsq = LsqOptions::for_tolerance(config.tolerance, config.timings);
+    let fit_one =
+        |(line, ch): (&Vec<Point>, &map::Chain)| fit::fit_boundary(line, ch.closed, &breaks, &lsq);
+    let fitted: Vec<fit::FittedChain> = {
+        use rayon::prelude::*;
+        lines
+            .par_iter()
+            .zip(map.chains.par_iter())
+            .map(fit_one)
+            .collect()
+    };
+    let side = |s: u32| (s != VOID_SIDE).then_some(s as usize);
+    let colour_of = |s: u32| side(s).map_or(0, |r| usize::from(regions.colour[r]));
+    let boundaries: Vec<Boundary> = fitted
+        .into_iter()
+        .zip(&map.chains)
+        .map(|(f, ch)| Boundary {
+            right: side(ch.right),
+            left: side(ch.left),
+            colours: [colour_of(ch.right), colour_of(ch.left)],
+            closed: ch.closed,
+            points: f.points,
+            segments: f.segments,
+        })
+        .collect();
+    let layers = layers(&map, &regions, &swatches, opts.layout);
+    let region_list: Vec<Region> = regions
+        .colour
+        .iter()
+        .zip(&regions.area)
+        .map(|(&c, &a)| Region {
+            colour: usize::from(c),
+            area: a,
+        })
+        .collect();
+    let export_bound = lsq.export_bound;
+    let mut trace = ColourTrace {
+        width: w as u32,
+        height: h as u32,
+        palette: swatches,
+        mixed_pixels,
+        regions: region_list,
+        boundaries,
+        layout: opts.layout,
+        layers,
+        fidelity: ColourFidelity::default(),
+        seconds: 0.0,
+    };
+    if config.check {
+        trace.fidelity = check::check(&trace, &label, config, export_bound);
+    }
+    if config.timings {
+        trace.seconds = started.elapsed().as_secs_f64();
+    }
+    Ok(trace)
+}
+
+/// The drawing order of the colours: most pixels first.
+fn colour_order(palette: &[Swatch]) -> Vec<usize> {
+    let mut order: Vec<usize> = (1..palette.len())
+        .filter(|&c| palette[c].pixels > 0)
+        .collect();
+    order.sort_by(|&a, &b| palette[b].pixels.cmp(&palette[a].pixels).then(a.cmp(&b)));
+    order
+}
+
+/// The layers of `layout` (see the module docs).
+fn layers(map: &Map, regions: &map::Regions, palette: &[Swatch], layout: Layout) -> Vec<Layer> {
+    let order = colour_order(palette);
+    let mut rank = vec![usize::MAX; palette.len()];
+    for (k, &c) in order.iter().enumerate() {
+        rank[c] = k;
+    }
+    let colour = |r: u32| usize::from(regions.colour[r as usize]);
+    order
+        .iter()
+        .map(|&c| {
+            let loops = match layout {
+                Layout::Cutout => map.loops(&|r| colour(r) == c),
+                Layout::Stacked => {
+                    // Regions that may extend this layer: later colours, opaque ones only
+                    // (a translucent region over this colour would show it through).
+                    let allowed = |r: u32| {
+                        let k = colour(r);
+                        k == c || (rank[k] > rank[c] && palette[k].alpha == 255)
+                    };
+                    let n = regions.colour.len();
+                    let mut parent: Vec<u32> = (0..n as u32).collect();
+                    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+                        while parent[x as usize] != x {
+                            parent[x as usize] = parent[parent[x as usize] as usize];
+                            x = parent[x as usize];
+                        }
+                        x
+                    }
+                    for ch in &map.chains {
+                        if ch.right != VOID_SIDE
+                            && ch.left != VOID_SIDE
+                            && allowed(ch.right)
+                            && allowed(ch.left)
+                        {
+                            let (a, b) = (find(&mut parent, ch.right), find(&mut parent, ch.left));
+                            parent[a.max(b) as usize] = a.min(b);
+                        }
+                    }
+                    let mut keep = vec![false; n];
+                    for r in 0..n as u32 {
+                        if colour(r) == c {
+                            let root = find(&mut parent, r);
+                            keep[root as usize] = true;
+                        }
+                    }
+                    let inside: Vec<bool> = (0..n as u32)
+                        .map(|r| allowed(r) && keep[find(&mut parent, r) as usize])
+                        .collect();
+                    map.loops(&|r| inside[r as usize])
+                }
+            };
+            Layer { colour: c, loops }
+        })
+        .collect()
+}
