@@ -286,6 +286,8 @@ pub(crate) fn chain_polylines(px: &Pixels, map: &Map, mixed_pixels: usize) -> Ve
             if ch.closed {
                 if bilevel {
                     smooth(&mut line, true, 4);
+                } else {
+                    line = sharpen_corners(line, true);
                 }
                 return thin_out(line, true);
             }
@@ -304,10 +306,156 @@ pub(crate) fn chain_polylines(px: &Pixels, map: &Map, mixed_pixels: usize) -> Ve
             out.push(p1);
             if bilevel {
                 smooth(&mut out, false, 4);
+            } else {
+                out = sharpen_corners(out, false);
             }
             thin_out(out, false)
         })
         .collect()
+}
+
+/// Arc length (px) to the chord ends of the corner detector.
+const CORNER_REACH: f64 = 2.0;
+/// Smallest chord angle (degrees) of a corner.
+const CORNER_ANGLE_DEG: f64 = 50.0;
+/// Arc length (px) on each side of a corner treated as rounded by anti-aliasing.
+const CORNER_SKIP: f64 = 1.2;
+/// Arc length (px) of each straight side fitted beyond the rounded part.
+const CORNER_SIDE: f64 = 3.0;
+/// Largest distance (px) of a side point from its fitted line.
+const CORNER_RESIDUAL: f64 = 0.1;
+/// Largest distance (px) from the sharpened corner to the nearest rounded point.
+const CORNER_MOVE: f64 = 1.0;
+
+/// Anti-aliasing rounds corners off, and the pixel at a corner mixes more than two
+/// colours, so it gives no point: where the line turns by more than [`CORNER_ANGLE_DEG`]
+/// within ±[`CORNER_REACH`] px and is straight on both sides beyond the rounded part, the
+/// points of the rounded part are replaced by the intersection of the two side lines (as
+/// one-colour tracing does on grey levels). An open line keeps its ends.
+fn sharpen_corners(points: Vec<Point>, closed: bool) -> Vec<Point> {
+    let n = points.len();
+    if n < 8 {
+        return points;
+    }
+    if closed {
+        // Start on the straightest point, so that no corner straddles the start.
+        let mut ext = points.clone();
+        ext.extend_from_slice(&points);
+        ext.extend_from_slice(&points);
+        let arc = arc_lengths(&ext);
+        let start = (n..2 * n)
+            .min_by(|&a, &b| turn(&ext, &arc, a).total_cmp(&turn(&ext, &arc, b)))
+            .unwrap_or(n)
+            - n;
+        let mut rotated = points;
+        rotated.rotate_left(start);
+        return sharpen_open(rotated);
+    }
+    sharpen_open(points)
+}
+
+/// Cumulative arc length along `points`.
+fn arc_lengths(points: &[Point]) -> Vec<f64> {
+    let mut arc = vec![0.0; points.len()];
+    for i in 1..points.len() {
+        arc[i] = arc[i - 1] + points[i].distance(points[i - 1]);
+    }
+    arc
+}
+
+/// First index at arc distance ≥ |d| from `i`, in the direction of `d` (the end where
+/// the line is shorter).
+fn index_at(arc: &[f64], i: usize, d: f64) -> usize {
+    if d >= 0.0 {
+        (i..arc.len())
+            .find(|&k| arc[k] - arc[i] >= d)
+            .unwrap_or(arc.len() - 1)
+    } else {
+        (0..=i).rev().find(|&k| arc[i] - arc[k] >= -d).unwrap_or(0)
+    }
+}
+
+/// Angle between the chords to the points [`CORNER_REACH`] back and ahead of `i`.
+fn turn(points: &[Point], arc: &[f64], i: usize) -> f64 {
+    let (b, a) = (
+        index_at(arc, i, -CORNER_REACH),
+        index_at(arc, i, CORNER_REACH),
+    );
+    if b == i || a == i {
+        return 0.0;
+    }
+    crate::geom::angle_between(points[i] - points[b], points[a] - points[i])
+}
+
+/// [`sharpen_corners`] on a line whose first and last points stay where they are.
+fn sharpen_open(points: Vec<Point>) -> Vec<Point> {
+    let m = points.len();
+    let arc = arc_lengths(&points);
+    let angles: Vec<f64> = (0..m).map(|i| turn(&points, &arc, i)).collect();
+    let min = CORNER_ANGLE_DEG.to_radians();
+    let line = |r: std::ops::RangeInclusive<usize>| -> Option<(Point, Point)> {
+        let pts = &points[r];
+        let (c, nrm) = fit_line(pts)?;
+        let worst = pts
+            .iter()
+            .map(|p| (*p - c).dot(nrm).abs())
+            .fold(0.0, f64::max);
+        (worst <= CORNER_RESIDUAL).then_some((c, nrm))
+    };
+    // Written points with their index in `points` (`None` for a sharpened corner).
+    let mut out: Vec<(Option<usize>, Point)> = Vec::with_capacity(m);
+    let mut i = 0;
+    while i < m {
+        let (b, a) = (
+            index_at(&arc, i, -CORNER_REACH),
+            index_at(&arc, i, CORNER_REACH),
+        );
+        let is_max = i > 0
+            && i + 1 < m
+            && angles[i] >= min
+            && (b..i).all(|k| angles[k] < angles[i])
+            && (i + 1..=a).all(|k| angles[k] <= angles[i]);
+        let sharpened = is_max.then(|| {
+            let (ib, ia) = (
+                index_at(&arc, i, -CORNER_SKIP),
+                index_at(&arc, i, CORNER_SKIP),
+            );
+            let ob = index_at(&arc, i, -(CORNER_SKIP + CORNER_SIDE));
+            let oa = index_at(&arc, i, CORNER_SKIP + CORNER_SIDE);
+            // Both sides whole, and the rounded part not reaching back into what is written.
+            // A corner already written must lie before this one's straight side: the
+            // first point written after it comes from `ob` or earlier.
+            let after_corner = match out.iter().rposition(|(k, _)| k.is_none()) {
+                None => true,
+                Some(c) => out.get(c + 1).and_then(|e| e.0).is_some_and(|k| k <= ob),
+            };
+            if ib < ob + 1 || oa < ia + 1 || ib == 0 || ia == m - 1 || !after_corner {
+                return None;
+            }
+            let (c1, n1) = line(ob..=ib)?;
+            let (c2, n2) = line(ia..=oa)?;
+            let x = meet(&[(c1, n1), (c2, n2)], points[i], 0.0);
+            let nearest = (ib..=ia)
+                .map(|k| points[k].distance(x))
+                .fold(f64::INFINITY, f64::min);
+            (x.is_finite() && nearest <= CORNER_MOVE).then_some((ib, ia, x))
+        });
+        match sharpened.flatten() {
+            Some((ib, ia, x)) => {
+                // Keep points up to ib, the corner, then go on from ia.
+                while out.last().is_some_and(|(k, _)| k.is_some_and(|k| k > ib)) {
+                    out.pop();
+                }
+                out.push((None, x));
+                i = ia;
+            }
+            None => {
+                out.push((Some(i), points[i]));
+                i += 1;
+            }
+        }
+    }
+    out.into_iter().map(|(_, p)| p).collect()
 }
 
 /// Drops points nearer than [`MIN_SPACING`] to the previous kept one (an open line keeps

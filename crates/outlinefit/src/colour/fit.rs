@@ -92,13 +92,16 @@ pub(crate) fn fit_boundary(
         return FittedChain { points, segments };
     }
     if n < 4 || length < 2.0 {
-        let points = vec![line[0], line[n - 1]];
-        let mut seg = straight(line, 0, n - 1);
-        seg.start = 0;
-        seg.end = 1;
+        // Too short for a curve: one line if it holds its points, else the polyline.
+        let one = straight(line, 0, n - 1);
+        let segments = if one.error.max_distance <= lsq.tolerance {
+            vec![one]
+        } else {
+            (0..n - 1).map(|k| straight(line, k, k + 1)).collect()
+        };
         return FittedChain {
-            points,
-            segments: vec![seg],
+            points: line.to_vec(),
+            segments,
         };
     }
     let pad = PADDING.min(n - 1);
