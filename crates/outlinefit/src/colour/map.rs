@@ -83,6 +83,10 @@ pub(crate) struct Regions {
     pub area: Vec<u64>,
 }
 
+/// Largest region (px) made only of mixed pixels that is taken for anti-aliasing between
+/// its neighbours, not for a colour of its own, and joins its neighbour.
+const MIXED_REGION_AREA: u64 = 64;
+
 /// 4-connected components of `label`.
 fn components(label: &[u16], w: usize, h: usize) -> Regions {
     let mut id = vec![u32::MAX; w * h];
@@ -126,13 +130,23 @@ fn components(label: &[u16], w: usize, h: usize) -> Regions {
     Regions { id, colour, area }
 }
 
-/// The regions of `label`, after every region smaller than `min_area` px² joined its
-/// most common neighbouring colour (`label` is updated to match).
-pub(crate) fn regions(label: &mut [u16], w: usize, h: usize, min_area: f64) -> Regions {
+/// The regions of `label`, after every region smaller than `min_area` px², and every small
+/// region without a single pure pixel (`pure`), joined its most common neighbouring colour
+/// (`label` is updated to match).
+pub(crate) fn regions(label: &mut [u16], pure: &[bool], w: usize, h: usize, min_area: f64) -> Regions {
     for _round in 0..16 {
         let r = components(label, w, h);
+        let mut has_pure = vec![false; r.area.len()];
+        for (i, &p) in pure.iter().enumerate() {
+            if p {
+                has_pure[r.id[i] as usize] = true;
+            }
+        }
         let small: Vec<u32> = (0..r.area.len() as u32)
-            .filter(|&k| (r.area[k as usize] as f64) < min_area)
+            .filter(|&k| {
+                let area = r.area[k as usize];
+                (area as f64) < min_area || (!has_pure[k as usize] && area <= MIXED_REGION_AREA)
+            })
             .collect();
         if small.is_empty() || r.area.len() == 1 {
             return r;
@@ -406,7 +420,7 @@ mod tests {
         // 1 on the left, 2 top right, 3 bottom right: junctions where the three meet and
         // where the 2|3 boundary and the 1|2, 1|3 boundaries reach the image border.
         let (mut l, w, h) = labels(&["1122", "1122", "1133", "1133"]);
-        let r = regions(&mut l, w, h, 0.0);
+        let r = regions(&mut l, &vec![true; w * h], w, h, 0.0);
         assert_eq!(r.area, vec![8, 4, 4]);
         let map = Map::new(&r, w, h);
         // 1|2, 1|3, 2|3 and three outer boundaries with the void.
@@ -428,7 +442,7 @@ mod tests {
     #[test]
     fn a_hole_is_a_closed_chain_and_a_small_region_joins_its_neighbour() {
         let (mut l, w, h) = labels(&["11111", "12221", "12321", "12221", "11111"]);
-        let r = regions(&mut l, w, h, 2.0);
+        let r = regions(&mut l, &vec![true; w * h], w, h, 2.0);
         // The single 3 joined the 2s around it.
         assert_eq!(r.area, vec![16, 9]);
         let map = Map::new(&r, w, h);

@@ -199,8 +199,9 @@ pub fn trace_colour(
     let mut swatches = palette::find_palette(&px, w, h, opts.palette);
     let colours: Vec<[f32; 4]> = px.iter().map(|p| palette::premultiplied(*p)).collect();
     drop(px);
-    let (mut label, mixed_pixels) = palette::label_pixels(&colours, w, h, &swatches);
-    let regions = map::regions(&mut label, w, h, config.min_area);
+    let (mut label, pure, mixed_pixels) = palette::label_pixels(&colours, w, h, &swatches);
+    let regions = map::regions(&mut label, &pure, w, h, config.min_area);
+    drop(pure);
     for s in swatches.iter_mut() {
         s.pixels = 0;
     }

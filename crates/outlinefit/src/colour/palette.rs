@@ -281,13 +281,14 @@ pub(crate) fn mix(c: &[f32; 4], a: &[f32; 4], b: &[f32; 4]) -> (f32, f32) {
     (t, dist2(c, &m).sqrt())
 }
 
-/// Every pixel's palette index (see the module docs), and how many pixels were mixed.
+/// Every pixel's palette index (see the module docs), whether it is pure (within
+/// [`PURE_DISTANCE`] of its colour), and how many pixels were mixed.
 pub(crate) fn label_pixels(
     colours: &[[f32; 4]],
     w: usize,
     h: usize,
     palette: &[Swatch],
-) -> (Vec<u16>, usize) {
+) -> (Vec<u16>, Vec<bool>, usize) {
     let nearest = |c: &[f32; 4]| -> (u16, f32) {
         palette
             .iter()
@@ -355,7 +356,8 @@ pub(crate) fn label_pixels(
             _ => nearest(c).0,
         };
     }
-    (label, mixed)
+    let pure = pure.iter().map(|&l| l != UNSET).collect();
+    (label, pure, mixed)
 }
 
 #[cfg(test)]
@@ -384,7 +386,7 @@ mod tests {
         assert_eq!(pal[1].rgb, [10, 40, 220]); // the larger colour first
         assert_eq!(pal[2].rgb, [200, 30, 40]);
         let colours: Vec<[f32; 4]> = px.iter().map(|p| premultiplied(*p)).collect();
-        let (labels, n_mixed) = label_pixels(&colours, w, h, &pal);
+        let (labels, _, n_mixed) = label_pixels(&colours, w, h, &pal);
         assert_eq!(n_mixed, h);
         assert!(labels
             .iter()
