@@ -14,7 +14,9 @@
 //!
 //! **Bilevel images** (no anti-aliasing: under 2 % of boundary pixels mixed) have only
 //! crack midpoints, a staircase; they are smoothed by four binomial passes ([1, 2, 1] / 4)
-//! with the ends held, so the fit does not follow the steps.
+//! so the fit does not follow the steps, holding what is exact: the ends, points on the
+//! image border, and square corners (a pixel corner between two straight runs of three
+//! cracks or more), which are added as points.
 //!
 //! **Junctions.** Where chains meet, the point is where the lines fitted to each chain's
 //! points 0.8–3.5 px from the pixel corner meet (least squares, held within 1 px of the
@@ -145,9 +147,24 @@ fn crack_points(px: &Pixels, map: &Map, bilevel: bool) -> Vec<Vec<Point>> {
         .map(|ch| {
             let (a, b) = (px.colour_of_side(ch.right), px.colour_of_side(ch.left));
             let mut out = Vec::with_capacity(ch.cracks() + 1);
-            for k in 0..ch.cracks() {
+            let n = ch.cracks();
+            // Length (up to 3) of the run of cracks in direction `d` from `k` by `step`.
+            let run = |k: usize, d: u8, back: bool| {
+                (0..3)
+                    .take_while(|&j| {
+                        let i = if back { k.checked_sub(j) } else { Some(k + j) };
+                        i.is_some_and(|i| i < n && ch.direction(i) == d)
+                    })
+                    .count()
+            };
+            for k in 0..n {
                 let (v, d) = (ch.vertices[k], ch.direction(k));
-                if k > 0 && image_corner(v) {
+                let square_corner = bilevel
+                    && k > 0
+                    && ch.direction(k - 1) != d
+                    && run(k - 1, ch.direction(k - 1), true) == 3
+                    && run(k, d, false) == 3;
+                if k > 0 && (image_corner(v) || square_corner) {
                     out.push(Point::new(f64::from(v.0), f64::from(v.1)));
                 }
                 let p = if bilevel {
@@ -162,16 +179,18 @@ fn crack_points(px: &Pixels, map: &Map, bilevel: bool) -> Vec<Vec<Point>> {
         .collect()
 }
 
-/// Binomial smoothing of a polyline, `passes` times; an open one keeps its ends.
-fn smooth(points: &mut [Point], closed: bool, passes: usize) {
+/// Binomial smoothing of a polyline, `passes` times; an open one keeps its ends, and
+/// points for which `fixed` holds stay where they are.
+fn smooth(points: &mut [Point], closed: bool, passes: usize, fixed: &dyn Fn(Point) -> bool) {
     let n = points.len();
     if n < 3 {
         return;
     }
+    let hold: Vec<bool> = points.iter().map(|&p| fixed(p)).collect();
     for _ in 0..passes {
         let old = points.to_vec();
         for i in 0..n {
-            if !closed && (i == 0 || i == n - 1) {
+            if (!closed && (i == 0 || i == n - 1)) || hold[i] {
                 continue;
             }
             let (p, q) = ((i + n - 1) % n, (i + 1) % n);
@@ -272,6 +291,15 @@ pub(crate) fn chain_polylines(px: &Pixels, map: &Map, mixed_pixels: usize) -> Ve
             (v, j)
         })
         .collect();
+    // Exact points that smoothing keeps: on the image border, and pixel corners (square
+    // corners of bilevel regions, junctions).
+    let fixed = |p: Point| {
+        p.x == 0.0
+            || p.y == 0.0
+            || p.x == f64::from(w)
+            || p.y == f64::from(h)
+            || (p.x.fract() == 0.0 && p.y.fract() == 0.0)
+    };
     map.chains
         .iter()
         .zip(&points)
@@ -285,7 +313,7 @@ pub(crate) fn chain_polylines(px: &Pixels, map: &Map, mixed_pixels: usize) -> Ve
             }
             if ch.closed {
                 if bilevel {
-                    smooth(&mut line, true, 4);
+                    smooth(&mut line, true, 4, &fixed);
                 } else {
                     line = sharpen_corners(line, true);
                 }
@@ -305,7 +333,7 @@ pub(crate) fn chain_polylines(px: &Pixels, map: &Map, mixed_pixels: usize) -> Ve
             out.extend(line.into_iter().filter(clear));
             out.push(p1);
             if bilevel {
-                smooth(&mut out, false, 4);
+                smooth(&mut out, false, 4, &fixed);
             } else {
                 out = sharpen_corners(out, false);
             }

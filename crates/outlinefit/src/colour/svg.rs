@@ -32,17 +32,49 @@ pub(crate) fn boundary_cubics(
     cubics
 }
 
-/// The pieces (start point, cubics) of one loop of a layer.
+/// The cubics of one loop of a layer, as one piece (start point, cubics): its boundaries
+/// in turn, consecutive straight cubics on one line joined into one (a boundary along the
+/// image border or a straight edge cut at a junction is one line when drawn).
 pub(crate) fn loop_pieces(
     trace: &ColourTrace,
     lp: &[(usize, bool)],
     bound: f64,
 ) -> Vec<(Point, Vec<CubicBez>)> {
-    lp.iter()
-        .map(|&(b, fwd)| boundary_cubics(trace, b, fwd, bound))
-        .filter(|c| !c.is_empty())
-        .map(|c| (c[0].points[0], c))
-        .collect()
+    let mut cubics: Vec<CubicBez> = Vec::new();
+    for &(b, fwd) in lp {
+        for c in boundary_cubics(trace, b, fwd, bound) {
+            match cubics.last_mut() {
+                Some(last) if same_line(last, &c) => {
+                    let (p, q) = (last.points[0], c.points[3]);
+                    *last = CubicBez {
+                        points: [p, p.lerp(q, 1.0 / 3.0), p.lerp(q, 2.0 / 3.0), q],
+                    };
+                }
+                _ => cubics.push(c),
+            }
+        }
+    }
+    match cubics.first() {
+        Some(first) => vec![(first.points[0], cubics)],
+        None => Vec::new(),
+    }
+}
+
+/// Largest distance (px) from a line at which a cubic counts as lying on it.
+const ON_LINE: f64 = 1e-6;
+
+/// True when `a` and `b` (which follows it) are straight and run on along one line.
+fn same_line(a: &CubicBez, b: &CubicBez) -> bool {
+    let (p, q) = (a.points[0], b.points[3]);
+    let Some(dir) = (q - p).normalized() else {
+        return false;
+    };
+    let off = |x: Point| (x - p).cross(dir).abs();
+    a.points.iter().chain(&b.points).all(|&x| off(x) <= ON_LINE)
+        && a.points
+            .windows(2)
+            .chain(b.points.windows(2))
+            .all(|w| (w[1] - w[0]).dot(dir) >= 0.0)
 }
 
 /// Writes a colour trace as SVG (see the module docs). Deterministic.

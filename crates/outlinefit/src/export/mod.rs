@@ -25,7 +25,7 @@ pub(crate) mod geojson;
 pub(crate) mod options;
 pub(crate) mod overlay;
 pub(crate) mod page;
-mod shapes;
+pub(crate) mod shapes;
 pub(crate) mod svg;
 
 pub use dxf::LAYER as DXF_LAYER;
