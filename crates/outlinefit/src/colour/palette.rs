@@ -37,7 +37,7 @@ const FLAT_SLACK: i32 = 6;
 /// Share of the flat pixels that makes a group a palette colour.
 const MIN_FLAT_SHARE: f64 = 0.0005;
 /// Number of flat pixels that makes a group a palette colour, whatever its share.
-const MIN_FLAT_PIXELS: u64 = 24;
+const MIN_FLAT_PIXELS: u64 = 8;
 /// Most colours `--palette auto` keeps.
 pub(crate) const AUTO_MAX: usize = 64;
 /// Largest distance (premultiplied, 0–1 per channel) of a pixel from its palette colour.
