@@ -133,7 +133,13 @@ fn components(label: &[u16], w: usize, h: usize) -> Regions {
 /// The regions of `label`, after every region smaller than `min_area` px², and every small
 /// region without a single pure pixel (`pure`), joined its most common neighbouring colour
 /// (`label` is updated to match).
-pub(crate) fn regions(label: &mut [u16], pure: &[bool], w: usize, h: usize, min_area: f64) -> Regions {
+pub(crate) fn regions(
+    label: &mut [u16],
+    pure: &[bool],
+    w: usize,
+    h: usize,
+    min_area: f64,
+) -> Regions {
     for _round in 0..16 {
         let r = components(label, w, h);
         let mut has_pure = vec![false; r.area.len()];
