@@ -153,6 +153,10 @@ fn colour_options_that_cannot_work_are_refused_before_any_output() {
             "fits with lsq",
         ),
         (vec!["--palette", "auto", "--overlay", "x.svg"], "--overlay"),
+        (
+            vec!["--palette", "auto", "-C", "#ff0000"],
+            "cannot be used with",
+        ),
     ] {
         let mut all = vec!["trace", s(&input)];
         if !args.contains(&"-o") {

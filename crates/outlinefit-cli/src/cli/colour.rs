@@ -15,8 +15,14 @@ pub(crate) struct ColourArgs {
     /// boundaries are fitted once, placed to a fraction of a pixel from the anti-aliased
     /// pixels between the colours; transparency stays transparent. `auto` keeps the
     /// colours found (at most 64), N merges the rarest into their nearest until N are left.
-    /// Writes SVG, one group per colour. Without it, one shape is traced.
-    #[arg(long, value_name = "auto|N", help_heading = "Colour")]
+    /// Writes SVG, one group per colour (with --stroke-only, each colour's outlines as
+    /// lines). Without it, one shape is traced.
+    #[arg(
+        long,
+        value_name = "auto|N",
+        conflicts_with = "color",
+        help_heading = "Colour"
+    )]
     pub(crate) palette: Option<PaletteSize>,
     /// How colour layers are drawn: `stacked` (each colour extends under the ones drawn
     /// after it, so no seam can show) or `cutout` (regions abut exactly on their shared

@@ -158,12 +158,17 @@ pub(crate) fn regions(
             return r;
         }
         // Neighbouring colours of each small region, by number of shared cracks.
-        let mut votes: HashMap<u32, HashMap<u16, u64>> =
-            small.iter().map(|&k| (k, HashMap::new())).collect();
+        let mut slot = vec![usize::MAX; r.area.len()];
+        for (k, &region) in small.iter().enumerate() {
+            slot[region as usize] = k;
+        }
+        let mut votes: Vec<HashMap<u16, u64>> = vec![HashMap::new(); small.len()];
         for i in 0..w * h {
-            let Some(v) = votes.get_mut(&r.id[i]) else {
+            let k = slot[r.id[i] as usize];
+            if k == usize::MAX {
                 continue;
-            };
+            }
+            let v = &mut votes[k];
             let (x, y) = (i % w, i / w);
             let mut vote = |j: usize| {
                 if r.id[j] != r.id[i] {
@@ -183,18 +188,19 @@ pub(crate) fn regions(
                 vote(i + w);
             }
         }
-        let new_colour: HashMap<u32, u16> = votes
+        let new_colour: Vec<Option<u16>> = votes
             .into_iter()
-            .filter_map(|(k, v)| {
+            .map(|v| {
                 let best = v
                     .into_iter()
                     .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))?;
-                Some((k, best.0))
+                Some(best.0)
             })
             .collect();
         let mut changed = false;
         for i in 0..w * h {
-            if let Some(&c) = new_colour.get(&r.id[i]) {
+            let k = slot[r.id[i] as usize];
+            if let Some(c) = new_colour.get(k).copied().flatten() {
                 changed |= label[i] != c;
                 label[i] = c;
             }

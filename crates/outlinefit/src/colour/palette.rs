@@ -156,22 +156,24 @@ fn is_flat(px: &[[u8; 4]], w: usize, h: usize, i: usize) -> bool {
 /// The palette of an image (`px`, row-major RGBA): [`VOID`] first, then the colours found,
 /// most frequent first.
 pub(crate) fn find_palette(px: &[[u8; 4]], w: usize, h: usize, size: PaletteSize) -> Vec<Swatch> {
-    let mut counts: std::collections::HashMap<u32, u64> = std::collections::HashMap::new();
-    let mut flat = 0u64;
-    for i in 0..px.len() {
-        if is_flat(px, w, h, i) {
-            *counts.entry(key(px[i])).or_insert(0) += 1;
-            flat += 1;
-        }
-    }
-    if flat == 0 {
+    let mut flat_keys: Vec<u32> = (0..px.len())
+        .filter(|&i| is_flat(px, w, h, i))
+        .map(|i| key(px[i]))
+        .collect();
+    if flat_keys.is_empty() {
         // Nothing is flat (a tiny or noisy image): every pixel counts.
-        for p in px {
-            *counts.entry(key(*p)).or_insert(0) += 1;
-        }
-        flat = px.len() as u64;
+        flat_keys = px.iter().map(|p| key(*p)).collect();
     }
-    let mut keys: Vec<(u32, u64)> = counts.into_iter().collect();
+    let flat = flat_keys.len() as u64;
+    flat_keys.sort_unstable();
+    let mut counts: Vec<(u32, u64)> = Vec::new();
+    for k in flat_keys {
+        match counts.last_mut() {
+            Some((last, n)) if *last == k => *n += 1,
+            _ => counts.push((k, 1)),
+        }
+    }
+    let mut keys = counts;
     keys.sort_unstable_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     // Groups: (first colour, weighted sums of RGBA, count); transparency is group 0.
     struct Group {
