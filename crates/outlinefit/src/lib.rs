@@ -37,9 +37,16 @@
 //! # Ok::<(), outlinefit::Error>(())
 //! ```
 //!
+//! ## Colour
+//!
+//! [`colour::trace_colour`] traces an image's flat colours as regions whose shared
+//! boundaries are fitted once (the program's `--palette`); [`colour::colour_svg`] writes
+//! them as one SVG group per colour, stacked or cut out.
+//!
 //! ## Modules
 //!
-//! The root holds what a tracing program needs. A few modules hold the rest: [`curve`]
+//! The root holds what a tracing program needs. A few modules hold the rest: [`colour`]
+//! (colour tracing), [`curve`]
 //! (the curve kernel: rational and polynomial cubics, Bernstein and Wang–Ball machinery),
 //! [`optim`] (the papers' metaheuristics behind one trait), [`fit`] (refitting a
 //! segmentation with them), [`merge`] (merging two disk Wang–Ball curves), [`report`]
