@@ -138,11 +138,11 @@ fn colour_options_that_cannot_work_are_refused_before_any_output() {
     write_logo(&input);
     let out_dir = dir.join("out");
     std::fs::create_dir_all(&out_dir).unwrap();
-    let (o, pdf) = (out_dir.join("o.svg"), out_dir.join("o.pdf"));
+    let (o, dxf) = (out_dir.join("o.svg"), out_dir.join("o.dxf"));
     for (args, expect) in [
         (
-            vec!["--palette", "auto", "-o", s(&pdf)],
-            "--palette writes SVG",
+            vec!["--palette", "auto", "-o", s(&dxf)],
+            "--palette writes SVG, PDF, EPS or PostScript",
         ),
         (vec!["--palette", "0"], "expected `auto` or a number"),
         (vec!["--palette", "many"], "expected `auto` or a number"),
@@ -248,4 +248,108 @@ fn batch_in_colour_is_the_same_on_one_and_two_threads_and_reads_standard_input()
         out.stdout,
         std::fs::read(dir.join("out1").join("a.svg")).unwrap()
     );
+}
+
+/// RGB pixels of a rendered page.
+fn rgb(path: &Path) -> image::RgbImage {
+    image::open(path).unwrap().to_rgb8()
+}
+
+#[test]
+fn colour_pdf_and_eps_draw_what_the_svg_draws() {
+    let dir = scratch("pages");
+    let input = dir.join("logo.png");
+    write_logo(&input);
+    let svg = dir.join("o.svg");
+    assert!(
+        run(&["trace", s(&input), "-o", s(&svg), "--palette", "auto"])
+            .status
+            .success()
+    );
+    // The SVG's rendering, composited on white as the page renderers paint.
+    let tree = resvg::usvg::Tree::from_str(
+        &std::fs::read_to_string(&svg).unwrap(),
+        &resvg::usvg::Options::default(),
+    )
+    .unwrap();
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(72, 48).unwrap();
+    pixmap.fill(resvg::tiny_skia::Color::WHITE);
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::identity(),
+        &mut pixmap.as_mut(),
+    );
+    let want: Vec<[u8; 3]> = pixmap
+        .pixels()
+        .iter()
+        .map(|p| [p.red(), p.green(), p.blue()])
+        .collect();
+    let renders = [
+        ("pdf", "pdftoppm", vec!["-r", "72", "-png", "-singlefile"]),
+        (
+            "eps",
+            "gs",
+            vec![
+                "-q",
+                "-dSAFER",
+                "-dBATCH",
+                "-dNOPAUSE",
+                "-sDEVICE=png16m",
+                "-dEPSCrop",
+                "-r72",
+            ],
+        ),
+    ];
+    for (ending, program, args) in renders {
+        let page = dir.join(format!("o.{ending}"));
+        let out = run(&["trace", s(&input), "-o", s(&page), "--palette", "auto"]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let png = dir.join(format!("{ending}.png"));
+        let mut cmd = std::process::Command::new(program);
+        cmd.args(&args);
+        if program == "gs" {
+            cmd.arg(format!("-sOutputFile={}", png.display()))
+                .arg(&page);
+        } else {
+            cmd.arg(&page).arg(dir.join(ending));
+        }
+        let Ok(status) = cmd.status() else {
+            // The readers are installed by .ci/run; a machine without them checks the rest.
+            eprintln!("{program} not found: {ending} rendering not checked");
+            continue;
+        };
+        assert!(status.success(), "{program} failed on {}", page.display());
+        let got = rgb(&png);
+        assert_eq!((got.width(), got.height()), (72, 48), "{ending} page size");
+        // Every pixel away from the edges (where renderers anti-alias differently, or not
+        // at all) has the SVG's colour.
+        let interior = |i: usize| {
+            let (x, y) = ((i % 72) as i64, (i / 72) as i64);
+            (-1..=1).all(|dy| {
+                (-1..=1).all(|dx| {
+                    let (cx, cy) = (x + dx, y + dy);
+                    !(0..72).contains(&cx)
+                        || !(0..48).contains(&cy)
+                        || want[(cy * 72 + cx) as usize] == want[i]
+                })
+            })
+        };
+        let off: Vec<usize> = (0..want.len())
+            .filter(|&i| interior(i))
+            .filter(|&i| {
+                let g = got.get_pixel((i % 72) as u32, (i / 72) as u32);
+                (0..3).any(|k| (i32::from(g[k]) - i32::from(want[i][k])).abs() > 8)
+            })
+            .collect();
+        assert!(
+            off.is_empty(),
+            "{ending}: pixels of another colour at {off:?}"
+        );
+        // And the colours are there: the middle of the disk is blue.
+        assert_eq!(got.get_pixel(52, 24).0, [30, 60, 200], "{ending}");
+    }
 }

@@ -375,7 +375,7 @@ fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> R
                 let target = resolve_output(&out_path, args.follow_symlinks)?;
                 write_atomic(
                     &target,
-                    colour::colour_svg(&trace, &writing.options).as_bytes(),
+                    &colour::export_colour(&trace, writing.format, &writing.options)?,
                 )?;
                 return Ok(Traced::Colour(trace));
             }

@@ -15,8 +15,8 @@ pub(crate) struct ColourArgs {
     /// boundaries are fitted once, placed to a fraction of a pixel from the anti-aliased
     /// pixels between the colours; transparency stays transparent. `auto` keeps the
     /// colours found (at most 64), N merges the rarest into their nearest until N are left.
-    /// Writes SVG, one group per colour (with --stroke-only, each colour's outlines as
-    /// lines). Without it, one shape is traced.
+    /// Writes SVG (one group per colour), PDF, EPS or PostScript; with --stroke-only, each
+    /// colour's outlines as lines. Without it, one shape is traced.
     #[arg(
         long,
         value_name = "auto|N",
@@ -40,7 +40,7 @@ pub(crate) struct ColourArgs {
 
 impl ColourArgs {
     /// The colour options, or `None` for a one-colour trace. Refuses what a colour trace
-    /// does not do: formats other than SVG, and the research fits.
+    /// does not do: DXF and GeoJSON, and the research fits.
     pub(crate) fn options(
         &self,
         config: &Config,
@@ -49,9 +49,9 @@ impl ColourArgs {
         let Some(palette) = self.palette else {
             return Ok(None);
         };
-        if format != Format::Svg {
+        if !matches!(format, Format::Svg | Format::Pdf | Format::Eps | Format::Ps) {
             bail!(
-                "--palette writes SVG; {} output is for one-colour traces (leave out --palette or --format)",
+                "--palette writes SVG, PDF, EPS or PostScript; {} holds one colour (leave out --palette or choose another format)",
                 format.name()
             );
         }

@@ -198,8 +198,8 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
                 _ => w.write_all(colour::to_csv(&trace).as_bytes()),
             })?;
         }
-        let svg = colour::colour_svg(&trace, &export_options);
-        write_output(&resolved[0], |w| w.write_all(svg.as_bytes()))?;
+        let drawing = colour::export_colour(&trace, format, &export_options)?;
+        write_output(&resolved[0], |w| w.write_all(&drawing))?;
         return Ok(0);
     }
     let progress = TerminalProgress::new();

@@ -22,11 +22,13 @@ mod check;
 mod edges;
 mod fit;
 mod map;
+mod page;
 mod palette;
 mod report;
 mod svg;
 
 pub use check::ColourFidelity;
+pub use page::{colour_pdf, colour_postscript, export_colour};
 pub use palette::{PaletteSize, Swatch};
 pub use report::{to_csv, write_json};
 pub use svg::colour_svg;

@@ -16,6 +16,7 @@
 use super::options::{ExportOptions, Unit};
 use super::shapes::{drawn_loop, holes_of, Cmd, Drawn};
 use super::svg::STROKE_WIDTH;
+use crate::geom::Point;
 use crate::svg_writer::{number, push_point};
 use crate::trace::TraceResult;
 use pdf_writer::{Filter, Pdf, Rect, Ref};
@@ -47,26 +48,7 @@ fn drawing(result: &TraceResult, opts: &ExportOptions) -> String {
                     continue;
                 }
             };
-            push_point(&mut path, l.start, precision);
-            path.push_str(" m\n");
-            for cmd in &l.cmds {
-                match cmd {
-                    Cmd::Line(p) => {
-                        push_point(&mut path, *p, precision);
-                        path.push_str(" l\n");
-                    }
-                    Cmd::Cubic(points) => {
-                        for (j, p) in points.iter().enumerate() {
-                            if j > 0 {
-                                path.push(' ');
-                            }
-                            push_point(&mut path, *p, precision);
-                        }
-                        path.push_str(" c\n");
-                    }
-                }
-            }
-            path.push_str("h\n");
+            push_loop(&mut path, l.start, &l.cmds, precision);
         }
         if !path.is_empty() {
             out.push_str(&path);
@@ -77,14 +59,35 @@ fn drawing(result: &TraceResult, opts: &ExportOptions) -> String {
     out
 }
 
+/// Appends one closed loop's path operators (`m`, `l`, `c`, `h`).
+pub(crate) fn push_loop(path: &mut String, start: Point, cmds: &[Cmd], precision: usize) {
+    push_point(path, start, precision);
+    path.push_str(" m\n");
+    for cmd in cmds {
+        match cmd {
+            Cmd::Line(p) => {
+                push_point(path, *p, precision);
+                path.push_str(" l\n");
+            }
+            Cmd::Cubic(points) => {
+                for (j, p) in points.iter().enumerate() {
+                    if j > 0 {
+                        path.push(' ');
+                    }
+                    push_point(path, *p, precision);
+                }
+                path.push_str(" c\n");
+            }
+        }
+    }
+    path.push_str("h\n");
+}
+
 /// The page's size in points and the transform from pixels (y down) to points (y up):
 /// `[k 0 0 -k 0 height]`.
-fn geometry(result: &TraceResult, opts: &ExportOptions) -> (f64, f64, [f64; 6]) {
+fn geometry(width: u32, height: u32, opts: &ExportOptions) -> (f64, f64, [f64; 6]) {
     let k = opts.size.per_pixel(Unit::Pt);
-    let (w, h) = (
-        f64::from(result.image.width) * k,
-        f64::from(result.image.height) * k,
-    );
+    let (w, h) = (f64::from(width) * k, f64::from(height) * k);
     (w, h, [k, 0.0, 0.0, -k, 0.0, h])
 }
 
@@ -116,10 +119,23 @@ fn matrix_text(m: &[f64; 6]) -> String {
 
 /// Writes the outline as a one-page PDF (see the module docs).
 pub fn to_pdf(result: &TraceResult, opts: &ExportOptions) -> Vec<u8> {
-    let (w, h, m) = geometry(result, opts);
+    let body = state(opts, "rg", "RG", "w") + &drawing(result, opts);
+    pdf_page(result.image.width, result.image.height, &body, opts)
+}
+
+/// Writes the outline as Encapsulated PostScript (`page = false`: a bounding box to place
+/// in another document) or as a PostScript page of the image's size (`page = true`).
+pub fn to_postscript(result: &TraceResult, opts: &ExportOptions, page: bool) -> String {
+    let body = state(opts, "setrgbcolor", "setrgbcolor", "setlinewidth") + &drawing(result, opts);
+    postscript_page(result.image.width, result.image.height, &body, opts, page)
+}
+
+/// A one-page PDF of a `width` × `height` px image whose page content (in pixel
+/// coordinates, y down) is `body`.
+pub(crate) fn pdf_page(width: u32, height: u32, body: &str, opts: &ExportOptions) -> Vec<u8> {
+    let (w, h, m) = geometry(width, height, opts);
     let mut content = format!("q\n{} cm\n", matrix_text(&m));
-    content.push_str(&state(opts, "rg", "RG", "w"));
-    content.push_str(&drawing(result, opts));
+    content.push_str(body);
     content.push_str("Q\n");
     let compressed = miniz_oxide::deflate::compress_to_vec_zlib(content.as_bytes(), 6);
 
@@ -146,10 +162,16 @@ pub fn to_pdf(result: &TraceResult, opts: &ExportOptions) -> Vec<u8> {
     pdf.finish()
 }
 
-/// Writes the outline as Encapsulated PostScript (`page = false`: a bounding box to place
-/// in another document) or as a PostScript page of the image's size (`page = true`).
-pub fn to_postscript(result: &TraceResult, opts: &ExportOptions, page: bool) -> String {
-    let (w, h, m) = geometry(result, opts);
+/// An EPS file or PostScript page (see [`to_postscript`]) of a `width` × `height` px image
+/// whose page content is `body`.
+pub(crate) fn postscript_page(
+    width: u32,
+    height: u32,
+    body: &str,
+    opts: &ExportOptions,
+    page: bool,
+) -> String {
+    let (w, h, m) = geometry(width, height, opts);
     let mut out = String::new();
     out.push_str(if page {
         "%!PS-Adobe-3.0\n"
@@ -184,8 +206,7 @@ pub fn to_postscript(result: &TraceResult, opts: &ExportOptions, page: bool) -> 
     }
     out.push_str("%%Page: 1 1\ngsave\n");
     out.push_str(&format!("[{}] concat\n", matrix_text(&m)));
-    out.push_str(&state(opts, "setrgbcolor", "setrgbcolor", "setlinewidth"));
-    out.push_str(&drawing(result, opts));
+    out.push_str(body);
     out.push_str("grestore\nshowpage\n%%Trailer\n%%EOF\n");
     out
 }
