@@ -7,35 +7,11 @@
 //! grouped 8-connected; a group larger than max(`--min-area`, 2) px² is a lost, invented or
 //! mis-coloured part and the check fails, naming the largest.
 
+use super::result::{ColourFidelity, ColourTrace};
 use super::svg::loop_pieces;
-use super::ColourTrace;
 use crate::fidelity::flatten_steps;
 use crate::geom::Point;
 use crate::trace::Config;
-use serde::Serialize;
-
-/// The verdict on a colour trace.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct ColourFidelity {
-    /// True when no group of far mis-coloured pixels is larger than `region_limit` and
-    /// the check ran.
-    pub held: bool,
-    /// Pixels drawn in another colour than the input's, more than a pixel from any
-    /// boundary of the input.
-    pub far_pixels: u64,
-    /// Area (px²) of the largest 8-connected group of them.
-    pub largest_region: f64,
-    /// Largest group accepted: max(`--min-area`, 2) px².
-    pub region_limit: f64,
-    /// Bounding box `[x0, y0, x1, y1]` (pixels, inclusive) of the largest group.
-    pub region_box: Option<[u32; 4]>,
-    /// Palette index the input has in the largest group, and the one drawn there.
-    pub region_colours: Option<[usize; 2]>,
-    /// Largest distance (px) from a boundary's edge point to its fitted curve.
-    pub max_deviation: f64,
-    /// Segments whose largest distance is above `--tolerance` (pieces too short to split).
-    pub segments_over_tolerance: usize,
-}
 
 /// Fills the flattened `loops` at pixel centres with `value` (even-odd).
 fn fill(loops: &[Vec<Point>], w: usize, h: usize, value: u16, out: &mut [u16]) {

@@ -4,8 +4,8 @@
 //! one-colour pages. These formats have no opacity here: a translucent colour is drawn
 //! opaque, with a comment saying so.
 
+use super::result::ColourTrace;
 use super::svg::{colour_svg, loop_pieces};
-use super::ColourTrace;
 use crate::error::{Error, Result};
 use crate::export::options::{ExportOptions, Format};
 use crate::export::page::{pdf_page, postscript_page, push_loop};

@@ -3,7 +3,7 @@
 //! control points, weights and errors), the layers and the check. The CSV has one row per
 //! boundary.
 
-use super::ColourTrace;
+use super::result::ColourTrace;
 use crate::trace::Config;
 use crate::VERSION;
 use serde::Serialize;

@@ -4,7 +4,7 @@
 //! Each boundary is drawn from the same cubics wherever it appears (forwards for one region,
 //! backwards for the other), written in the compact relative syntax of the one-colour SVG.
 
-use super::ColourTrace;
+use super::result::ColourTrace;
 use crate::curve::CubicBez;
 use crate::export::options::ExportOptions;
 use crate::export::svg::{pieces_path_data, pixel_document, sized_document};
