@@ -412,3 +412,19 @@ fn black_on_white_in_colour_matches_the_one_colour_trace() {
         "colour {colour_iou:.4}, one colour {one_iou:.4} against the truth"
     );
 }
+
+#[test]
+fn a_one_pixel_image_is_its_square_and_a_transparent_one_draws_nothing() {
+    let one = DynamicImage::ImageRgba8(RgbaImage::from_pixel(1, 1, Rgba([10, 20, 30, 255])));
+    let t = trace_colour(&one, &config(), &options(Layout::Stacked)).unwrap();
+    let svg = colour_svg(&t, &ExportOptions::for_tolerance(0.3));
+    assert!(
+        svg.contains(r#"d="M0 0h1v1h-1z""#) || svg.contains(r#"d="M1 0v1h-1v-1h1z""#),
+        "{svg}"
+    );
+    assert!(t.fidelity.held);
+    let clear = DynamicImage::ImageRgba8(RgbaImage::from_pixel(20, 10, Rgba(CLEAR)));
+    let t = trace_colour(&clear, &config(), &options(Layout::Stacked)).unwrap();
+    assert!(t.layers.is_empty());
+    assert!(!colour_svg(&t, &ExportOptions::for_tolerance(0.3)).contains("<path"));
+}

@@ -93,6 +93,11 @@ pub(crate) fn colour_problem(config: &Config, trace: &ColourTrace) -> Option<Str
 /// The warnings a colour trace deserves, one line each.
 pub(crate) fn colour_warnings(name: &str, config: &Config, trace: &ColourTrace) -> Vec<String> {
     let mut out = Vec::new();
+    if trace.layers.is_empty() {
+        out.push(format!(
+            "warning: {name}: the image is fully transparent; nothing is drawn"
+        ));
+    }
     if let Some(problem) = colour_problem(config, trace) {
         out.push(format!("warning: {name}: {problem}"));
     }

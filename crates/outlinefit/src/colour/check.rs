@@ -56,10 +56,12 @@ pub(crate) fn drawn_colours(trace: &ColourTrace, bound: f64) -> Vec<u16> {
             .map(|lp| {
                 let mut pts = Vec::new();
                 for (_, cubics) in loop_pieces(trace, lp, bound) {
-                    for c in cubics {
-                        let n = flatten_steps(&c);
+                    for c in &cubics {
+                        let n = flatten_steps(c);
                         pts.extend((0..n).map(|k| c.eval(k as f64 / n as f64)));
                     }
+                    // The end of the last cubic (the loop closes from there).
+                    pts.extend(cubics.last().map(|c| c.points[3]));
                 }
                 pts
             })

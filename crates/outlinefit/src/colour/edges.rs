@@ -159,6 +159,9 @@ fn crack_points(px: &Pixels, map: &Map, bilevel: bool) -> Vec<Vec<Point>> {
             };
             for k in 0..n {
                 let (v, d) = (ch.vertices[k], ch.direction(k));
+                if k == 0 && ch.closed && image_corner(v) {
+                    out.push(Point::new(f64::from(v.0), f64::from(v.1)));
+                }
                 let square_corner = bilevel
                     && k > 0
                     && ch.direction(k - 1) != d

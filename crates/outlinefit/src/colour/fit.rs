@@ -28,6 +28,20 @@ pub(crate) struct FittedChain {
     pub segments: Vec<FittedSegment>,
 }
 
+/// Closed boundaries of this many points or fewer (a region of a pixel or two) are drawn
+/// as their polygon: too few points for a curve to follow without overshooting.
+const SMALL_LOOP: usize = 8;
+
+/// A closed polyline as straight segments.
+fn polygon(line: &[Point]) -> FittedChain {
+    let mut points = line.to_vec();
+    points.push(line[0]);
+    let segments = (0..line.len())
+        .map(|k| straight(&points, k, k + 1))
+        .collect();
+    FittedChain { points, segments }
+}
+
 /// A straight segment from `points[a]` to `points[b]` over the points between.
 fn straight(points: &[Point], a: usize, b: usize) -> FittedSegment {
     let (p, q) = (points[a], points[b]);
@@ -72,6 +86,9 @@ pub(crate) fn fit_boundary(
 ) -> FittedChain {
     let n = line.len();
     let length: f64 = line.windows(2).map(|w| w[0].distance(w[1])).sum();
+    if closed && n <= SMALL_LOOP {
+        return polygon(line);
+    }
     if closed {
         let contour = Contour {
             points: line.to_vec(),
@@ -86,10 +103,7 @@ pub(crate) fn fit_boundary(
             };
         }
         // Too few points for a curve: the polygon.
-        let mut points = line.to_vec();
-        points.push(line[0]);
-        let segments = (0..n).map(|k| straight(&points, k, k + 1)).collect();
-        return FittedChain { points, segments };
+        return polygon(line);
     }
     if n < 4 || length < 2.0 {
         // Too short for a curve: one line if it holds its points, else the polyline.

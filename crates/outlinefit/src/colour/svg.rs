@@ -34,7 +34,8 @@ pub(crate) fn boundary_cubics(
 
 /// The cubics of one loop of a layer, as one piece (start point, cubics): its boundaries
 /// in turn, consecutive straight cubics on one line joined into one (a boundary along the
-/// image border or a straight edge cut at a junction is one line when drawn).
+/// image border or a straight edge cut at a junction is one line when drawn), and a last
+/// straight cubic back to the start left to the closing `z`.
 pub(crate) fn loop_pieces(
     trace: &ColourTrace,
     lp: &[(usize, bool)],
@@ -54,10 +55,24 @@ pub(crate) fn loop_pieces(
             }
         }
     }
+    // A closing straight line is what `z` (and a fill) draws anyway.
+    if cubics.len() > 2 && is_line(&cubics[cubics.len() - 1]) {
+        cubics.pop();
+    }
     match cubics.first() {
         Some(first) => vec![(first.points[0], cubics)],
         None => Vec::new(),
     }
+}
+
+/// True when every control point of `c` lies on its chord.
+fn is_line(c: &CubicBez) -> bool {
+    let (p, q) = (c.points[0], c.points[3]);
+    (q - p).normalized().is_some_and(|dir| {
+        c.points
+            .iter()
+            .all(|&x| (x - p).cross(dir).abs() <= ON_LINE)
+    })
 }
 
 /// Largest distance (px) from a line at which a cubic counts as lying on it.
