@@ -17,6 +17,10 @@
 //!    and neighbouring layers abut on the same curves (vinyl cutters, screen printing).
 //! 6. **Check** (`check`): the drawn layers rasterised at the pixel centres against the
 //!    input's colours.
+//!
+//! `trace` runs the steps (`trace_colour`) and builds the layers; `result` holds what a
+//! trace gives; `svg` and `page` write it (SVG; PDF, EPS, PostScript), `report` its JSON and
+//! CSV reports.
 
 mod check;
 mod edges;

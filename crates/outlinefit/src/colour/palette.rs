@@ -51,7 +51,7 @@ const CLEAR_ALPHA: u8 = 8;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum PaletteSize {
-    /// The flat colours found, at most [`AUTO_MAX`].
+    /// The flat colours found, at most 64.
     Auto,
     /// At most this many (transparency not counted).
     Max(usize),

@@ -28,7 +28,7 @@ impl std::str::FromStr for Layout {
     }
 }
 
-/// Options of a colour trace beside the [`Config`] (whose tolerance, corner angle,
+/// Options of a colour trace beside the [`crate::Config`] (whose tolerance, corner angle,
 /// `min_area`, `max_pixels` and frame it uses).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct ColourOptions {
