@@ -402,46 +402,44 @@ fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> R
             panic_message(panic.as_ref())
         ))
     });
-    match outcome {
+    match &outcome {
         Ok(Traced::Colour(trace)) => {
+            let f = &trace.fidelity;
+            row.checked(config, f.held, f.max_deviation, f.largest_region);
             row.segments = trace.segment_count();
             row.curves = row.segments;
-            row.max_distance = trace.fidelity.max_deviation;
-            if config.check {
-                row.held = if trace.fidelity.held { "yes" } else { "no" };
-                row.max_deviation = trace.fidelity.max_deviation;
-                row.largest_region = trace.fidelity.largest_region;
-            }
-            row.warnings = colour_warnings(&row.file, config, &trace);
-            row.seconds = if config.timings {
-                started.elapsed().as_secs_f64()
-            } else {
-                0.0
-            };
+            row.max_distance = f.max_deviation;
+            row.warnings = colour_warnings(&row.file, config, trace);
         }
         Ok(Traced::Shape(result)) => {
+            let f = &result.fidelity;
+            row.checked(config, f.held, f.max_deviation, f.largest_region);
             row.segments = result.segment_count();
             row.curves = result.curve_count();
             row.sum_sq = result.sum_sq();
             row.max_distance = result.max_distance();
-            if config.check {
-                row.held = if result.fidelity.held { "yes" } else { "no" };
-                row.max_deviation = result.fidelity.max_deviation;
-                row.largest_region = result.fidelity.largest_region;
-            }
-            row.warnings = trace_warnings(&row.file, config, &result);
-            row.seconds = if config.timings {
-                started.elapsed().as_secs_f64()
-            } else {
-                0.0
-            };
+            row.warnings = trace_warnings(&row.file, config, result);
         }
         Err(e) => {
             row.status = "failed";
             row.message = error_line(e.as_ref());
         }
     }
+    if outcome.is_ok() && config.timings {
+        row.seconds = started.elapsed().as_secs_f64();
+    }
     row
+}
+
+impl Row {
+    /// Records the check's verdict (held, largest deviation, largest region) when it ran.
+    fn checked(&mut self, config: &Config, held: bool, deviation: f64, region: f64) {
+        if config.check {
+            self.held = if held { "yes" } else { "no" };
+            self.max_deviation = deviation;
+            self.largest_region = region;
+        }
+    }
 }
 
 /// Writes summary.csv: one row per input, or, before the run has finished, a single row

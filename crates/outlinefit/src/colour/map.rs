@@ -87,6 +87,19 @@ pub(crate) struct Regions {
 /// its neighbours, not for a colour of its own, and joins its neighbour.
 const MIXED_REGION_AREA: u64 = 64;
 
+/// The 4-neighbours of pixel `i` inside a `w` × `h` image.
+fn neighbours(i: usize, w: usize, h: usize) -> impl Iterator<Item = usize> {
+    let (x, y) = (i % w, i / w);
+    [
+        (x > 0).then(|| i - 1),
+        (x + 1 < w).then(|| i + 1),
+        (y > 0).then(|| i - w),
+        (y + 1 < h).then(|| i + w),
+    ]
+    .into_iter()
+    .flatten()
+}
+
 /// 4-connected components of `label`.
 fn components(label: &[u16], w: usize, h: usize) -> Regions {
     let mut id = vec![u32::MAX; w * h];
@@ -104,24 +117,11 @@ fn components(label: &[u16], w: usize, h: usize) -> Regions {
         let mut n = 0u64;
         while let Some(i) = stack.pop() {
             n += 1;
-            let (x, y) = (i % w, i / w);
-            let mut visit = |j: usize| {
+            for j in neighbours(i, w, h) {
                 if id[j] == u32::MAX && label[j] == l {
                     id[j] = r;
                     stack.push(j);
                 }
-            };
-            if x > 0 {
-                visit(i - 1);
-            }
-            if x + 1 < w {
-                visit(i + 1);
-            }
-            if y > 0 {
-                visit(i - w);
-            }
-            if y + 1 < h {
-                visit(i + w);
             }
         }
         colour.push(l);
@@ -168,24 +168,10 @@ pub(crate) fn regions(
             if k == usize::MAX {
                 continue;
             }
-            let v = &mut votes[k];
-            let (x, y) = (i % w, i / w);
-            let mut vote = |j: usize| {
+            for j in neighbours(i, w, h) {
                 if r.id[j] != r.id[i] {
-                    *v.entry(label[j]).or_insert(0) += 1;
+                    *votes[k].entry(label[j]).or_insert(0) += 1;
                 }
-            };
-            if x > 0 {
-                vote(i - 1);
-            }
-            if x + 1 < w {
-                vote(i + 1);
-            }
-            if y > 0 {
-                vote(i - w);
-            }
-            if y + 1 < h {
-                vote(i + w);
             }
         }
         let new_colour: Vec<Option<u16>> = votes

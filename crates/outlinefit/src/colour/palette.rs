@@ -108,10 +108,15 @@ impl Swatch {
     /// ΔE (CIE76) to `o`, plus the difference of opacity weighted so that a clearly
     /// different alpha is a different colour.
     fn distance(&self, o: &Swatch) -> f32 {
-        let d = (0..3)
+        self.delta_e(o) + (f32::from(self.alpha) - f32::from(o.alpha)).abs() * 0.5
+    }
+
+    /// ΔE (CIE76) to `o`, colour alone.
+    fn delta_e(&self, o: &Swatch) -> f32 {
+        (0..3)
             .map(|k| (self.lab[k] - o.lab[k]).powi(2))
-            .sum::<f32>();
-        d.sqrt() + (f32::from(self.alpha) - f32::from(o.alpha)).abs() * 0.5
+            .sum::<f32>()
+            .sqrt()
     }
 }
 
@@ -200,9 +205,7 @@ pub(crate) fn find_palette(px: &[[u8; 4]], w: usize, h: usize, size: PaletteSize
             .iter()
             .position(|g| {
                 (i32::from(g.seed.alpha) - i32::from(s.alpha)).abs() <= MERGE_ALPHA
-                    && g.seed.distance(&s)
-                        - (f32::from(g.seed.alpha) - f32::from(s.alpha)).abs() * 0.5
-                        <= MERGE_DELTA_E
+                    && g.seed.delta_e(&s) <= MERGE_DELTA_E
             })
             .map(|g| g + 1);
         let g = match near {
