@@ -26,16 +26,24 @@
 //!    stripes), and its group of such tiles is a region that fails the check.
 //!
 //! [`crate::trace_bitmap`] repairs what fails (see `repair`) and reports the final check
-//! in [`Fidelity`].
+//! in [`Fidelity`]. The first check compares every row of the image; a check after a
+//! repair round compares only the tiles around the contours it changed (`dirty`), with a
+//! grid of the edges near them (`grid`), and keeps the earlier findings everywhere else,
+//! which it would find again: on a scanned page a round costs what its few repaired
+//! contours cost.
 
 mod dense;
+mod dirty;
+mod grid;
 
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
-use crate::geom::{distance_to_closed_polyline, floor_i64, groups_8, segment_distance, Point};
+use crate::geom::{distance_to_closed_polyline, groups_8, segment_distance, Point};
 use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::raster::Bitmap;
 use dense::{dense_regions, UNDECIDED};
+use dirty::Dirty;
+use grid::{Edge, EdgeGrid};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashSet;
@@ -75,16 +83,6 @@ pub(crate) fn flatten_steps(cubic: &CubicBez) -> usize {
 /// Distance (px) from the drawn outline beyond which a disagreeing pixel is a lost or
 /// invented part, and the deviation limit of fits that promise no tolerance.
 pub(crate) const SHAPE_LIMIT: f64 = 1.0;
-
-/// Cell size (px) of the spatial grid of drawn edges: small, so that a query looks at few
-/// edges, but the grid never holds more than `CELLS_PER_EDGE` cells per edge.
-const CELL: f64 = 2.0;
-/// Most cells of the edge grid per drawn edge (and at least `MIN_CELLS`): the grid's
-/// memory follows the outline's length, not the image's area (a 4096 px image with a
-/// simple outline would otherwise spend 4 bytes per pixel on mostly empty cells).
-const CELLS_PER_EDGE: f64 = 4.0;
-/// Fewest cells the grid is allowed to shrink to.
-const MIN_CELLS: f64 = 4096.0;
 
 /// The verdict on one traced image, as reported.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -133,6 +131,13 @@ pub(crate) struct Findings {
     pub(crate) regions: Vec<Region>,
     /// Area and bounding box of the largest region (above the limit or not).
     pub(crate) largest: (f64, Option<[u32; 4]>),
+    /// Pixels far from the drawn outline where it disagrees with the input (excused ones
+    /// left out), sorted: a later check keeps those away from what changed.
+    far_pixels: Vec<u32>,
+    /// Decided pixels near the drawn outline where it disagrees, sorted (likewise).
+    near_pixels: Vec<u32>,
+    /// Per contour, the box of its drawn path.
+    boxes: Vec<Option<[f64; 4]>>,
 }
 
 /// A connected region of far pixels.
@@ -180,16 +185,6 @@ impl Limits {
     }
 }
 
-/// An edge of the flattened drawn outline (a copy of its end points).
-#[derive(Clone, Copy, Debug)]
-struct Edge {
-    a: Point,
-    b: Point,
-    contour: u32,
-    /// Index of its first point in the contour's polyline.
-    index: u32,
-}
-
 /// The drawn outline of every contour as closed polylines, and for each point the
 /// segment it belongs to (`u32::MAX` where merged curves are drawn).
 fn flatten(
@@ -197,218 +192,52 @@ fn flatten(
     merged: &[Vec<MergedCurve>],
     bound: f64,
 ) -> Vec<(Vec<Point>, Vec<u32>)> {
-    contours
-        .iter()
-        .enumerate()
-        .map(|(i, c)| {
-            if c.segments.is_empty() {
-                return (Vec::new(), Vec::new());
-            }
-            let merged = merged.get(i).map_or(&[][..], Vec::as_slice);
-            let pieces = drawing_pieces(c, merged, bound);
-            // Without merged curves, piece k is segment k.
-            let segment_of = |k: usize| {
-                if merged.is_empty() {
-                    k as u32
-                } else {
-                    u32::MAX
-                }
-            };
-            // Step counts once, so that the polyline is allocated at its exact size.
-            let steps: Vec<usize> = pieces
-                .iter()
-                .flat_map(|(_, cubics)| cubics.iter().map(flatten_steps))
-                .collect();
-            let size = pieces.len() + steps.iter().sum::<usize>();
-            let (mut out, mut segments) = (Vec::with_capacity(size), Vec::with_capacity(size));
-            let mut steps = steps.into_iter();
-            for (k, (start, cubics)) in pieces.into_iter().enumerate() {
-                out.push(start);
-                segments.push(segment_of(k));
-                for (cubic, n) in cubics.iter().zip(&mut steps) {
-                    for j in 1..=n {
-                        out.push(cubic.eval(j as f64 / n as f64));
-                        segments.push(segment_of(k));
-                    }
-                }
-            }
-            if out.iter().any(|p| !p.is_finite()) {
-                let keep: Vec<bool> = out.iter().map(|p| p.is_finite()).collect();
-                let mut flags = keep.iter();
-                out.retain(|_| *flags.next().unwrap_or(&false));
-                let mut flags = keep.iter();
-                segments.retain(|_| *flags.next().unwrap_or(&false));
-            }
-            (out, segments)
-        })
-        .collect()
-}
-
-/// Edge `k` of polyline `contour` (from point k to the next, closing the loop).
-#[inline]
-fn edge_of(polylines: &[Vec<Point>], (contour, k): (u32, u32)) -> Edge {
-    let line = &polylines[contour as usize];
-    let k = k as usize;
-    Edge {
-        a: line[k],
-        b: line[(k + 1) % line.len()],
-        contour,
-        index: k as u32,
-    }
-}
-
-/// A uniform grid of edges (compressed rows: `start[cell]..start[cell + 1]` index `items`).
-struct EdgeGrid<'a> {
-    polylines: &'a [Vec<Point>],
-    /// Every edge as (contour, index of its first point): 8 bytes instead of a copy of
-    /// its end points (a text page at 600 dpi has millions).
-    edges: Vec<(u32, u32)>,
-    cell: f64,
-    cols: i64,
-    rows: i64,
-    start: Vec<u32>,
-    items: Vec<u32>,
-}
-
-impl<'a> EdgeGrid<'a> {
-    fn new(polylines: &'a [Vec<Point>], width: u32, height: u32) -> EdgeGrid<'a> {
-        let count = polylines.iter().map(Vec::len).filter(|&n| n >= 2).sum();
-        let mut edges = Vec::with_capacity(count);
-        for (i, line) in polylines.iter().enumerate() {
-            if line.len() >= 2 {
-                edges.extend((0..line.len() as u32).map(|k| (i as u32, k)));
-            }
+    let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
+    let flatten_one = |(i, c): (usize, &FittedContour)| {
+        if c.segments.is_empty() {
+            return (Vec::new(), Vec::new());
         }
-        let all_edges = || edges.iter().map(|&e| edge_of(polylines, e));
-        let area = f64::from(width) * f64::from(height);
-        let max_cells = (CELLS_PER_EDGE * edges.len() as f64).max(MIN_CELLS);
-        let cell = CELL.max((area / max_cells).sqrt());
-        let cols = (f64::from(width) / cell).ceil() as i64 + 1;
-        let rows = (f64::from(height) / cell).ceil() as i64 + 1;
-        let cells = (cols * rows) as usize;
-        let range = |e: &Edge| {
-            let c0 = floor_i64(e.a.x.min(e.b.x) / cell).clamp(0, cols - 1);
-            let c1 = floor_i64(e.a.x.max(e.b.x) / cell).clamp(0, cols - 1);
-            let r0 = floor_i64(e.a.y.min(e.b.y) / cell).clamp(0, rows - 1);
-            let r1 = floor_i64(e.a.y.max(e.b.y) / cell).clamp(0, rows - 1);
-            (c0, c1, r0, r1)
+        let merged = merged.get(i).map_or(&[][..], Vec::as_slice);
+        let pieces = drawing_pieces(c, merged, bound);
+        // Without merged curves, piece k is segment k.
+        let segment_of = |k: usize| {
+            if merged.is_empty() {
+                k as u32
+            } else {
+                u32::MAX
+            }
         };
-        let mut count = vec![0u32; cells + 1];
-        for e in all_edges() {
-            let (c0, c1, r0, r1) = range(&e);
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    count[(r * cols + c) as usize + 1] += 1;
+        // Step counts once, so that the polyline is allocated at its exact size.
+        let steps: Vec<usize> = pieces
+            .iter()
+            .flat_map(|(_, cubics)| cubics.iter().map(flatten_steps))
+            .collect();
+        let size = pieces.len() + steps.iter().sum::<usize>();
+        let (mut out, mut segments) = (Vec::with_capacity(size), Vec::with_capacity(size));
+        let mut steps = steps.into_iter();
+        for (k, (start, cubics)) in pieces.into_iter().enumerate() {
+            out.push(start);
+            segments.push(segment_of(k));
+            for (cubic, n) in cubics.iter().zip(&mut steps) {
+                for j in 1..=n {
+                    out.push(cubic.eval(j as f64 / n as f64));
+                    segments.push(segment_of(k));
                 }
             }
         }
-        for k in 0..cells {
-            count[k + 1] += count[k];
+        if out.iter().any(|p| !p.is_finite()) {
+            let keep: Vec<bool> = out.iter().map(|p| p.is_finite()).collect();
+            let mut flags = keep.iter();
+            out.retain(|_| *flags.next().unwrap_or(&false));
+            let mut flags = keep.iter();
+            segments.retain(|_| *flags.next().unwrap_or(&false));
         }
-        let mut items = vec![0u32; count[cells] as usize];
-        // `count[cell]` serves as the cell's fill cursor, which ends at the next cell's
-        // start; shifting by one afterwards restores the starts.
-        for (i, e) in all_edges().enumerate() {
-            let (c0, c1, r0, r1) = range(&e);
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    let cell = (r * cols + c) as usize;
-                    items[count[cell] as usize] = i as u32;
-                    count[cell] += 1;
-                }
-            }
-        }
-        count.copy_within(0..cells, 1);
-        count[0] = 0;
-        EdgeGrid {
-            polylines,
-            edges,
-            cell,
-            cols,
-            rows,
-            start: count,
-            items,
-        }
-    }
-
-    /// The edge with end points copied out.
-    #[inline]
-    fn edge(&self, e: (u32, u32)) -> Edge {
-        edge_of(self.polylines, e)
-    }
-
-    /// Every edge, in order.
-    fn all_edges(&self) -> impl Iterator<Item = Edge> + '_ {
-        self.edges.iter().map(|&e| self.edge(e))
-    }
-
-    /// Nearest edge to `p` within `reach` px (of contour `only`, if given): distance and
-    /// contour, or `None` when there is none that close. Cells are searched ring by ring
-    /// outwards from `p`'s own, and the search stops once the best distance found is
-    /// below what any further ring could hold. (Edges beyond the grid are listed in its
-    /// border cells, nearer to a point inside; for a point outside, the rings before the
-    /// grid are empty, so nothing is skipped until the grid is reached.)
-    fn nearest(&self, p: Point, reach: f64, only: Option<u32>) -> Option<(f64, (u32, u32))> {
-        let c = floor_i64(p.x / self.cell);
-        let r = floor_i64(p.y / self.cell);
-        let k = (reach / self.cell).ceil() as i64;
-        // Ring j ≥ 1 lies outside the block of rings below it, at least (j − 1) cells
-        // plus `margin` (the distance from `p` to its own cell's sides) away.
-        let (fx, fy) = (p.x - c as f64 * self.cell, p.y - r as f64 * self.cell);
-        let margin = (fx.min(self.cell - fx).min(fy).min(self.cell - fy) - 1e-9).max(0.0);
-        let mut best: Option<(f64, (u32, u32))> = None;
-        for ring in 0..=k {
-            if ring > 0 && best.is_some_and(|(d, _)| d <= (ring - 1) as f64 * self.cell + margin) {
-                break;
-            }
-            for row in r - ring..=r + ring {
-                // The ring's cells on this row: all of it on the top and bottom rows, its
-                // two ends otherwise.
-                let step = if (row - r).abs() == ring { 1 } else { 2 * ring };
-                for col in (c - ring..=c + ring).step_by(step.max(1) as usize) {
-                    for e in self.cell_edges(row, col) {
-                        if only.is_some_and(|o| o != e.contour) {
-                            continue;
-                        }
-                        let d = segment_distance(p, e.a, e.b);
-                        if d <= reach && best.is_none_or(|(bd, _)| d < bd) {
-                            best = Some((d, (e.contour, e.index)));
-                        }
-                    }
-                }
-            }
-        }
-        best
-    }
-
-    /// The edges listed in cell (`row`, `col`); none outside the grid.
-    fn cell_edges(&self, row: i64, col: i64) -> impl Iterator<Item = Edge> + '_ {
-        let inside = (0..self.rows).contains(&row) && (0..self.cols).contains(&col);
-        let items = if inside {
-            let cell = (row * self.cols + col) as usize;
-            &self.items[self.start[cell] as usize..self.start[cell + 1] as usize]
-        } else {
-            &[]
-        };
-        items.iter().map(|&i| self.edge(self.edges[i as usize]))
-    }
-
-    /// True when some edge lies within `reach` px of `p` (stops at the first).
-    fn any_within(&self, p: Point, reach: f64) -> bool {
-        let c = floor_i64(p.x / self.cell);
-        let r = floor_i64(p.y / self.cell);
-        let k = (reach / self.cell).ceil() as i64;
-        for row in (r - k).max(0)..=(r + k).min(self.rows - 1) {
-            for col in (c - k).max(0)..=(c + k).min(self.cols - 1) {
-                if self
-                    .cell_edges(row, col)
-                    .any(|e| segment_distance(p, e.a, e.b) <= reach)
-                {
-                    return true;
-                }
-            }
-        }
-        false
+        (out, segments)
+    };
+    if parallel {
+        contours.par_iter().enumerate().map(flatten_one).collect()
+    } else {
+        contours.iter().enumerate().map(flatten_one).collect()
     }
 }
 
@@ -446,7 +275,9 @@ pub(crate) fn check(
 
 /// [`check`], given the findings of an earlier check of the same contours with
 /// `unchanged[i]` true for each contour drawn and fitted as it was then: their data
-/// points' deviations (measured from their own drawn path only) are taken from it.
+/// points' deviations (measured from their own drawn path only) are taken from it, and
+/// the pixels are compared again only around the contours that changed (see `dirty`):
+/// a repair round costs what its repaired contours cost, not a pass over the image.
 pub(crate) fn check_again(
     bitmap: &Bitmap,
     contours: &[FittedContour],
@@ -457,13 +288,44 @@ pub(crate) fn check_again(
 ) -> Findings {
     let (polylines, segment_of): (Vec<Vec<Point>>, Vec<Vec<u32>>) =
         flatten(contours, merged, limits.bound).into_iter().unzip();
-    let grid = EdgeGrid::new(&polylines, bitmap.width(), bitmap.height());
+    let boxes: Vec<Option<[f64; 4]>> = polylines.iter().map(|line| bounding_box(line)).collect();
+    let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
+    let far_limit = limits.far();
+    // Reach (px) within which the drawn edges decide what the check finds at a pixel:
+    // a region's responsible contours, beyond the far limit, the farthest.
+    let reach = REGION_REACH + far_limit + 2.0;
+    let whole = [0.0, 0.0, w as f64, h as f64];
+    // The tiles to look at again, and a grid of the edges that can matter there.
+    let dirty = earlier.map(|(findings, unchanged)| {
+        let changed: Vec<[f64; 4]> = (0..contours.len())
+            .filter(|&i| unchanged.get(i) != Some(&true))
+            .flat_map(|i| [findings.boxes.get(i).copied().flatten(), boxes[i]])
+            .flatten()
+            .collect();
+        Dirty::new(w, h, &changed, reach)
+    });
+    let grid = match &dirty {
+        None => EdgeGrid::new(&polylines, whole, |_| true),
+        Some(d) => {
+            // Whole contours away from the tiles first, then edges.
+            let near: Vec<bool> = boxes
+                .iter()
+                .map(|b| b.is_some_and(|b| d.near_box(b, reach)))
+                .collect();
+            EdgeGrid::new(&polylines, d.bounds(reach).unwrap_or(whole), |e| {
+                near[e.contour as usize] && d.near_box(edge_box(e), reach)
+            })
+        }
+    };
+    // Every edge, for what the partial grid cannot answer (rarely needed).
+    let full_grid = std::sync::OnceLock::new();
+    let full = || full_grid.get_or_init(|| EdgeGrid::new(&polylines, whole, |_| true));
 
     let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
 
-    // 1. Deviation of every data point from its own contour's drawn path.
-    let far_limit = limits.far();
-    let reach = far_limit * 2.0;
+    // 1. Deviation of every data point from its own contour's drawn path (the grid holds
+    // every edge of a changed contour).
+    let deviation_reach = far_limit * 2.0;
     let deviation_of = |(i, c): (usize, &FittedContour)| -> (f64, Vec<usize>) {
         if let Some((findings, unchanged)) = earlier {
             if unchanged.get(i) == Some(&true) && i < findings.worst.len() {
@@ -473,7 +335,7 @@ pub(crate) fn check_again(
         if polylines[i].is_empty() {
             return (0.0, Vec::new());
         }
-        let at = |&p: &Point| match grid.nearest(p, reach, Some(i as u32)) {
+        let at = |&p: &Point| match grid.nearest(p, deviation_reach, Some(i as u32)) {
             Some((d, _)) => d,
             None => distance_to_closed_polyline(p, &polylines[i]),
         };
@@ -505,10 +367,36 @@ pub(crate) fn check_again(
     let max_deviation = per_contour.iter().map(|r| r.0).fold(0.0, f64::max);
     let (worst, bad_points) = per_contour.into_iter().unzip();
 
-    // 2. Disagreement between the drawn shape and the thresholded input.
-    let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
+    // 2. Disagreement between the drawn shape and the thresholded input, on the rows
+    // and columns to look at.
+    let everywhere;
+    let look = match &dirty {
+        Some(d) => d,
+        None => {
+            everywhere = Dirty::all(w, h);
+            &everywhere
+        }
+    };
     let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); h];
-    for e in grid.all_edges() {
+    // A closed path whose box misses the tiles looked at crosses each of their rows
+    // left of a pixel an even number of times, or not at all: it cannot change a
+    // pixel's side, and is skipped whole.
+    let crossing_lines: Vec<Vec<Point>>;
+    let lines = match &dirty {
+        None => &polylines,
+        Some(d) => {
+            crossing_lines = polylines
+                .iter()
+                .zip(&boxes)
+                .map(|(line, b)| match b {
+                    Some(b) if d.near_box(*b, 0.0) => line.clone(),
+                    _ => Vec::new(),
+                })
+                .collect();
+            &crossing_lines
+        }
+    };
+    for e in grid::all_edges(lines) {
         let (a, b) = (e.a, e.b);
         if a.y == b.y {
             continue;
@@ -519,9 +407,11 @@ pub(crate) fn check_again(
         let r1 = (hi.y - 0.5).ceil().min(h as f64);
         let mut r = r0;
         while r < r1 {
-            let y = r + 0.5;
-            let x = lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
-            crossings[r as usize].push(x);
+            if !look.spans(r as usize).is_empty() {
+                let y = r + 0.5;
+                let x = lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
+                crossings[r as usize].push(x);
+            }
             r += 1.0;
         }
     }
@@ -529,45 +419,52 @@ pub(crate) fn check_again(
     // On grey levels, a pixel near the threshold is undecided (an anti-aliased edge
     // pixel); only decided ones count towards dense disagreement.
     let decided = |v: f32| bitmap.is_bilevel() || (f64::from(v) - threshold).abs() >= UNDECIDED;
-    // The far pixels of one row, and its near disagreeing ones, given its crossings
-    // (sorted here) and a buffer for its coverage.
+    // The far pixels of one row's spans, and its near disagreeing ones, given its
+    // crossings (sorted here) and a buffer for its coverage.
     let far_in_row =
         |row: usize, xs: &mut [f64], coverage: &mut [f32], out: &mut (Vec<u32>, Vec<u32>)| {
+            let spans = look.spans(row);
+            if spans.is_empty() {
+                return;
+            }
             xs.sort_by(f64::total_cmp);
             bitmap.read_row(row, coverage);
-            let (mut next, mut inside, mut col) = (0, false, 0);
-            while col < w {
-                // Crossings at or before this pixel's centre.
-                while next < xs.len() && xs[next] <= col as f64 + 0.5 {
-                    inside = !inside;
-                    next += 1;
-                }
-                // The run of pixels up to the next crossing, all on one side of the drawn
-                // outline: most runs agree with the mask everywhere, which a vectorised count
-                // tells before any pixel is looked at alone.
-                let end = match xs.get(next) {
-                    Some(&x) => run_end(col, x, w),
-                    None => w,
-                };
-                let run = &coverage[col..end];
-                let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
-                if run.iter().filter(|&&v| disagree(v)).count() > 0 {
-                    for (k, &v) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
-                        let index = (row * w + col + k) as u32;
-                        if !excused.contains(&index) {
-                            let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
-                            if !grid.any_within(centre, far_limit) {
-                                out.0.push(index);
-                            } else if decided(v) {
-                                out.1.push(index);
+            let (mut next, mut inside) = (0, false);
+            for &(from, to) in spans {
+                let mut col = from;
+                while col < to {
+                    // Crossings at or before this pixel's centre.
+                    while next < xs.len() && xs[next] <= col as f64 + 0.5 {
+                        inside = !inside;
+                        next += 1;
+                    }
+                    // The run of pixels up to the next crossing, all on one side of the
+                    // drawn outline: most runs agree with the mask everywhere, which a
+                    // vectorised count tells before any pixel is looked at alone.
+                    let end = match xs.get(next) {
+                        Some(&x) => run_end(col, x, w).min(to),
+                        None => to,
+                    };
+                    let run = &coverage[col..end];
+                    let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
+                    if run.iter().filter(|&&v| disagree(v)).count() > 0 {
+                        for (k, &v) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
+                            let index = (row * w + col + k) as u32;
+                            if !excused.contains(&index) {
+                                let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
+                                if !grid.any_within(centre, far_limit) {
+                                    out.0.push(index);
+                                } else if decided(v) {
+                                    out.1.push(index);
+                                }
                             }
                         }
                     }
+                    col = end;
                 }
-                col = end;
             }
         };
-    let (far_pixels, near_pixels): (Vec<u32>, Vec<u32>) = if parallel {
+    let (mut far_pixels, mut near_pixels): (Vec<u32>, Vec<u32>) = if parallel {
         let rows: Vec<(Vec<u32>, Vec<u32>)> = crossings
             .par_iter_mut()
             .enumerate()
@@ -594,12 +491,27 @@ pub(crate) fn check_again(
         }
         out
     };
-    let far: HashSet<usize> = far_pixels.into_iter().map(|p| p as usize).collect();
+    drop(crossings);
+    // Outside the tiles looked at, the earlier findings stand.
+    if let (Some(d), Some((findings, _))) = (&dirty, earlier) {
+        let kept = |p: &&u32| !d.contains(**p as usize % w, **p as usize / w);
+        far_pixels.extend(findings.far_pixels.iter().filter(kept));
+        near_pixels.extend(findings.near_pixels.iter().filter(kept));
+        far_pixels.sort_unstable();
+        near_pixels.sort_unstable();
+    }
+    let far: HashSet<usize> = far_pixels.iter().map(|&p| p as usize).collect();
     let mut regions = Vec::new();
     let mut largest: (f64, Option<[u32; 4]>) = (0.0, None);
+    // The grid that answers for all of `pixels`: the partial one when they lie in or
+    // beside the tiles looked at again.
+    let grid_for = |pixels: &[u32]| match &dirty {
+        Some(d) if !pixels.iter().all(|&p| d.touches(p)) => full(),
+        _ => &grid,
+    };
     // Records a region of disagreement: the largest one's box, and the contours
     // responsible when it counts.
-    let mut record = |mut pixels: Vec<u32>, counts: bool| {
+    let mut record = |mut pixels: Vec<u32>, counts: bool, same: Option<&Region>| {
         let area = pixels.len() as f64;
         if area > largest.0 {
             let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
@@ -612,37 +524,60 @@ pub(crate) fn check_again(
             }
             largest = (area, Some([x0, y0, x1, y1]));
         }
-        if counts {
-            let mut near: HashSet<(u32, u32)> = HashSet::new();
-            for &p in &pixels {
-                let centre =
-                    Point::new((p as usize % w) as f64 + 0.5, (p as usize / w) as f64 + 0.5);
-                if let Some((_, (c, k))) = grid.nearest(centre, REGION_REACH + far_limit, None) {
-                    near.insert((c, segment_of[c as usize][k as usize]));
-                }
-            }
-            let mut near_segments: Vec<(usize, Option<usize>)> = near
-                .into_iter()
-                .map(|(c, k)| (c as usize, (k != u32::MAX).then_some(k as usize)))
-                .collect();
-            near_segments.sort_unstable();
-            let mut near_contours: Vec<usize> = near_segments.iter().map(|n| n.0).collect();
-            near_contours.dedup();
-            pixels.sort_unstable();
+        if !counts {
+            return;
+        }
+        pixels.sort_unstable();
+        if let Some(old) = same.filter(|old| old.pixels == pixels) {
             regions.push(Region {
                 pixels,
-                near_contours,
-                near_segments,
+                near_contours: old.near_contours.clone(),
+                near_segments: old.near_segments.clone(),
             });
+            return;
         }
+        let grid = grid_for(&pixels);
+        let mut near: HashSet<(u32, u32)> = HashSet::new();
+        for &p in &pixels {
+            let centre = Point::new((p as usize % w) as f64 + 0.5, (p as usize / w) as f64 + 0.5);
+            if let Some((_, (c, k))) = grid.nearest(centre, REGION_REACH + far_limit, None) {
+                near.insert((c, segment_of[c as usize][k as usize]));
+            }
+        }
+        let mut near_segments: Vec<(usize, Option<usize>)> = near
+            .into_iter()
+            .map(|(c, k)| (c as usize, (k != u32::MAX).then_some(k as usize)))
+            .collect();
+        near_segments.sort_unstable();
+        let mut near_contours: Vec<usize> = near_segments.iter().map(|n| n.0).collect();
+        near_contours.dedup();
+        regions.push(Region {
+            pixels,
+            near_contours,
+            near_segments,
+        });
+    };
+    // An earlier region whose pixels all lie away from the tiles looked at again is
+    // found again unchanged (none of its pixels or their neighbours changed).
+    let earlier_region = |pixels: &[usize]| -> Option<&Region> {
+        let (d, (findings, _)) = (dirty.as_ref()?, earlier?);
+        if pixels.iter().any(|&p| d.touches(p as u32)) {
+            return None;
+        }
+        let first = *pixels.iter().min()? as u32;
+        findings
+            .regions
+            .iter()
+            .find(|r| r.pixels.first() == Some(&first))
     };
     for group in groups_8(&far, w, h) {
+        let same = earlier_region(&group);
         let pixels: Vec<u32> = group.into_iter().map(|p| p as u32).collect();
         let counts = pixels.len() as f64 > limits.region;
-        record(pixels, counts);
+        record(pixels, counts, same);
     }
     for pixels in dense_regions(&near_pixels, w, h, far_limit) {
-        record(pixels, true);
+        record(pixels, true, None);
     }
     Findings {
         max_deviation,
@@ -650,7 +585,32 @@ pub(crate) fn check_again(
         worst,
         regions,
         largest,
+        far_pixels,
+        near_pixels,
+        boxes,
     }
+}
+
+/// The box `[x0, y0, x1, y1]` of `points`, if any.
+fn bounding_box(points: &[Point]) -> Option<[f64; 4]> {
+    let first = points.first()?;
+    Some(
+        points
+            .iter()
+            .fold([first.x, first.y, first.x, first.y], |b, p| {
+                [b[0].min(p.x), b[1].min(p.y), b[2].max(p.x), b[3].max(p.y)]
+            }),
+    )
+}
+
+/// The box of an edge.
+fn edge_box(e: &Edge) -> [f64; 4] {
+    [
+        e.a.x.min(e.b.x),
+        e.a.y.min(e.b.y),
+        e.a.x.max(e.b.x),
+        e.a.y.max(e.b.y),
+    ]
 }
 
 /// How far the repair has gone with one contour.
@@ -800,6 +760,114 @@ mod tests {
             "{}",
             wrong.largest.0
         );
+    }
+
+    /// Everything a check finds, for comparing two checks.
+    fn summary(f: &Findings) -> impl PartialEq + std::fmt::Debug {
+        let regions: Vec<_> = f
+            .regions
+            .iter()
+            .map(|r| {
+                (
+                    r.pixels.clone(),
+                    r.near_contours.clone(),
+                    r.near_segments.clone(),
+                )
+            })
+            .collect();
+        (
+            f.max_deviation,
+            f.bad_points.clone(),
+            f.worst.clone(),
+            regions,
+            f.largest,
+            f.far_pixels.clone(),
+            f.near_pixels.clone(),
+        )
+    }
+
+    /// A check after a repair, which looks again only around the changed contours, finds
+    /// exactly what a full check of the same contours finds: after a contour is dropped
+    /// (a lost shape: a region), and then after another one is moved 3 px (its points
+    /// stray: bad points and regions on both sides), with the first region, away from the
+    /// second change, carried over.
+    #[test]
+    fn a_check_after_a_repair_finds_what_a_full_check_finds() {
+        let (w, h) = (120u32, 64u32);
+        let disks = [(18.0, 32.0, 11.0), (60.0, 30.0, 13.0), (100.0, 34.0, 9.5)];
+        let cov = (0..w * h)
+            .map(|i| {
+                let (x, y) = (f64::from(i % w), f64::from(i / w));
+                let mut n = 0;
+                for k in 0..16 {
+                    let p = (
+                        x + (f64::from(k % 4) + 0.5) / 4.0,
+                        y + (f64::from(k / 4) + 0.5) / 4.0,
+                    );
+                    if disks.iter().any(|d| (p.0 - d.0).hypot(p.1 - d.1) <= d.2) {
+                        n += 1;
+                    }
+                }
+                n as f32 / 16.0
+            })
+            .collect();
+        let bitmap = Bitmap::from_coverage(w, h, cov, None).unwrap();
+        let config = crate::Config {
+            check: false,
+            timings: false,
+            ..crate::Config::default()
+        };
+        let base = crate::trace_bitmap(&bitmap, &config).unwrap().contours;
+        assert_eq!(base.len(), 3);
+        let limits = Limits {
+            deviation: 0.325,
+            region: 2.0,
+            bound: config.lsq_options().export_bound,
+        };
+        let none = HashSet::new();
+        let first = check(&bitmap, &base, &[], limits, &none);
+        assert!(first.held());
+        let index_at = |x: f64| {
+            (0..3)
+                .find(|&i| (base[i].points[0].x - x).abs() < 14.0)
+                .unwrap()
+        };
+        let (left, right) = (index_at(18.0), index_at(100.0));
+
+        let mut dropped = base.clone();
+        dropped[right].segments.clear();
+        let unchanged: Vec<bool> = (0..3).map(|i| i != right).collect();
+        let again = check_again(
+            &bitmap,
+            &dropped,
+            &[],
+            limits,
+            &none,
+            Some((&first, &unchanged)),
+        );
+        let full = check(&bitmap, &dropped, &[], limits, &none);
+        assert!(!full.regions.is_empty());
+        assert_eq!(summary(&again), summary(&full));
+
+        let mut moved = dropped.clone();
+        for s in &mut moved[left].segments {
+            for p in &mut s.curve.points {
+                p.x += 3.0;
+            }
+        }
+        let unchanged: Vec<bool> = (0..3).map(|i| i != left).collect();
+        let again = check_again(
+            &bitmap,
+            &moved,
+            &[],
+            limits,
+            &none,
+            Some((&again, &unchanged)),
+        );
+        let full = check(&bitmap, &moved, &[], limits, &none);
+        assert!(!full.bad_points[left].is_empty());
+        assert!(full.regions.len() >= 2, "{}", full.regions.len());
+        assert_eq!(summary(&again), summary(&full));
     }
 
     /// The flattening of random cubics (straight, gently and sharply bent, up to 400 px
