@@ -29,7 +29,10 @@
 //! - On a bilevel image the first trace already follows the pixels (the bilevel
 //!   regression), so the pixel trace of step 3 is skipped.
 //! - The check after a round measures again only the data points of the contours it
-//!   changed (`fidelity::check_again`).
+//!   changed, and compares the pixels only around them (`fidelity::check_again`).
+//! - A round's refits run in parallel: each contour's step is decided first, in order,
+//!   against the work budget as it stood when the round began, and the refitted contours
+//!   are put back in order, so the result does not depend on the number of threads.
 
 use crate::breaks::{find_breaks, Break, BreakOptions, BreakReason, SegmentedContour};
 use crate::contour::{Extraction, PixelTrace};
@@ -154,12 +157,18 @@ pub(crate) fn check_and_repair(
         let mut progressed = false;
         // Contours refitted or added in this round.
         let mut changed: HashSet<usize> = HashSet::new();
+        // The round in three passes: each target's step is decided in order (the work
+        // budget as it stood when the round began), the refits run in parallel (each reads
+        // only its own contour), and their results are applied in order: the same on any
+        // number of threads.
+        let spent_at_start = ladder_left <= 0.0;
+        let mut jobs: Vec<Job> = Vec::new();
         for i in targets {
             let bad = &findings.bad_points[i];
             // Where the path left its data, first add corners there (repeatable on the
             // last step); otherwise trace the contour again, closer to the pixels.
             // Once the ladder's work is spent, what still fails goes to the last step.
-            let spent = ladder_left <= 0.0 || (level[i] == Repair::None && slots_left == 0);
+            let spent = spent_at_start || (level[i] == Repair::None && slots_left == 0);
             let step = if !bad.is_empty()
                 && ((!corners_tried[i] && !spent) || level[i] == Repair::PixelRaw)
             {
@@ -179,49 +188,7 @@ pub(crate) fn check_and_repair(
                 list.extend(bad.iter().flat_map(|&k| [k, (k + n - 1) % n]));
                 list.sort_unstable();
             }
-            // True when the run from corner a to corner b is to be fitted tighter: every
-            // run of a contour below LOCAL_POINTS, otherwise a run with a point of
-            // trouble in [a, b) (cyclically).
-            let whole_tighter = n < LOCAL_POINTS;
-            let dirty = |a: usize, b: usize| {
-                whole_tighter
-                    || at.as_ref().is_none_or(|list| {
-                        let from = list.partition_point(|&t| t < a);
-                        if a < b {
-                            list.get(from).is_some_and(|&t| t < b)
-                        } else {
-                            from < list.len() || list.first().is_some_and(|&t| t < b)
-                        }
-                    })
-            };
-            let options = |tolerance: f64| lsq_options(tolerance, limits.bound, timings);
-            // A contour's own tolerance: the repair's tighter one once it has reached it.
-            let own = match level[i] {
-                Repair::Tighter(k) => tighter_tolerance(tolerance, k).unwrap_or(tolerance),
-                _ => tolerance,
-            };
-            let seg = match step {
-                Repair::None => continue,
-                Repair::Corners => {
-                    // Only the runs that the new corners cut are fitted again.
-                    let seg = with_corners(&contours[i], bad);
-                    let (refit, work) =
-                        refit_runs(&contours[i], &seg, &|_, _| false, &options(own));
-                    if level[i] != Repair::PixelRaw {
-                        ladder_left -= work as f64;
-                    }
-                    contours[i] = refit;
-                    None
-                }
-                Repair::Tighter(k) => {
-                    // Only the runs where something went wrong are fitted tighter.
-                    let tighter = tighter_tolerance(tolerance, k).unwrap_or(tolerance);
-                    let seg = corners_kept(&contours[i]);
-                    let (refit, work) = refit_runs(&contours[i], &seg, &dirty, &options(tighter));
-                    ladder_left -= work as f64;
-                    contours[i] = refit;
-                    None
-                }
+            let pixels = match step {
                 Repair::PixelSmoothed | Repair::PixelRaw => {
                     let how = if step == Repair::PixelRaw {
                         PixelTrace::Raw
@@ -238,16 +205,82 @@ pub(crate) fn check_and_repair(
                         find_breaks(&c, break_options)
                     })
                 }
+                _ => None,
             };
-            if let Some(seg) = seg {
-                if step == Repair::PixelSmoothed {
-                    ladder_left -= seg.points.len() as f64;
-                }
-                contours[i] = fit_contour(&seg, &options(tolerance));
-            }
             if level[i] == Repair::None && step != Repair::Corners && step != Repair::PixelRaw {
                 slots_left = slots_left.saturating_sub(1);
             }
+            jobs.push(Job {
+                index: i,
+                step,
+                at,
+                pixels,
+            });
+        }
+        let run = |job: &Job| -> (FittedContour, f64) {
+            let i = job.index;
+            // True when the run from corner a to corner b is to be fitted tighter: every
+            // run of a contour below LOCAL_POINTS, otherwise a run with a point of
+            // trouble in [a, b) (cyclically).
+            let whole_tighter = contours[i].points.len() < LOCAL_POINTS;
+            let dirty = |a: usize, b: usize| {
+                whole_tighter
+                    || job.at.as_ref().is_none_or(|list| {
+                        let from = list.partition_point(|&t| t < a);
+                        if a < b {
+                            list.get(from).is_some_and(|&t| t < b)
+                        } else {
+                            from < list.len() || list.first().is_some_and(|&t| t < b)
+                        }
+                    })
+            };
+            let options = |tolerance: f64| lsq_options(tolerance, limits.bound, timings);
+            // A contour's own tolerance: the repair's tighter one once it has reached it.
+            let own = match level[i] {
+                Repair::Tighter(k) => tighter_tolerance(tolerance, k).unwrap_or(tolerance),
+                _ => tolerance,
+            };
+            match (job.step, &job.pixels) {
+                (Repair::Corners, _) => {
+                    // Only the runs that the new corners cut are fitted again.
+                    let seg = with_corners(&contours[i], &findings.bad_points[i]);
+                    let (refit, work) =
+                        refit_runs(&contours[i], &seg, &|_, _| false, &options(own));
+                    let counted = if level[i] == Repair::PixelRaw {
+                        0
+                    } else {
+                        work
+                    };
+                    (refit, counted as f64)
+                }
+                (Repair::Tighter(k), _) => {
+                    // Only the runs where something went wrong are fitted tighter.
+                    let tighter = tighter_tolerance(tolerance, k).unwrap_or(tolerance);
+                    let seg = corners_kept(&contours[i]);
+                    let (refit, work) = refit_runs(&contours[i], &seg, &dirty, &options(tighter));
+                    (refit, work as f64)
+                }
+                (step, Some(seg)) => {
+                    let work = if step == Repair::PixelSmoothed {
+                        seg.points.len() as f64
+                    } else {
+                        0.0
+                    };
+                    (fit_contour(seg, &options(tolerance)), work)
+                }
+                (_, None) => (contours[i].clone(), 0.0),
+            }
+        };
+        let refits: Vec<(FittedContour, f64)> = if jobs.len() > 1 {
+            use rayon::prelude::*;
+            jobs.par_iter().map(run).collect()
+        } else {
+            jobs.iter().map(run).collect()
+        };
+        for (job, (refit, work)) in jobs.into_iter().zip(refits) {
+            let (i, step) = (job.index, job.step);
+            contours[i] = refit;
+            ladder_left -= work;
             if step == Repair::Corners {
                 corners_tried[i] = true;
             } else {
@@ -334,6 +367,18 @@ pub(crate) fn check_and_repair(
         segments_over_tolerance: 0,
         worst_segment_distance: 0.0,
     })
+}
+
+/// One contour's step in a round of repair.
+struct Job {
+    /// The contour.
+    index: usize,
+    /// The step it takes.
+    step: Repair,
+    /// Its data points where something went wrong, sorted (`None`: all of it).
+    at: Option<Vec<usize>>,
+    /// The pixel steps' newly traced and segmented contour.
+    pixels: Option<SegmentedContour>,
 }
 
 /// The options of a repair's fit at `tolerance`: drawn within the trace's `bound`, as
