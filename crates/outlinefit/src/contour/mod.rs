@@ -115,7 +115,7 @@ use crate::error::{Error, Result};
 use crate::geom::{signed_area, Point};
 use crate::raster::Bitmap;
 use bilevel::{follows_cracks, smoothed_cracks};
-use grey::{outline_noise, EdgeEstimator, NOISE_LIMIT};
+use grey::{outline_noise, EdgeEstimator, Window, NOISE_LIMIT, SOFT_SHARE};
 use mask::{Crack, FoundBorder, PaddedMask};
 use serde::Serialize;
 use spikes::extend_spikes;
@@ -375,7 +375,11 @@ fn extract_with(
             let points = if bitmap.is_bilevel() {
                 bilevel(work)
             } else {
-                let refined = work.refined_outline(bitmap, &cracks, estimator);
+                let mut refined = work.refined_outline(bitmap, &cracks, estimator, Window::SHARP);
+                if work.open_windows as f64 > SOFT_SHARE * cracks.len() as f64 {
+                    // A soft edge: refined again with the window that spans it.
+                    refined = work.refined_outline(bitmap, &cracks, estimator, Window::SOFT);
+                }
                 if outline_noise(&refined) > NOISE_LIMIT {
                     // The grey levels are noise (JPEG ringing, scanner grain), not
                     // anti-aliasing: refining to them would fit the noise. Trace the
