@@ -171,8 +171,8 @@ fn refine_crack(
         EdgeEstimator::LevelCrossing => (level_crossing(bitmap, crack.mid(), n), false),
     };
     let (p, n) = match s {
-        // The edge must also stay where the thresholded pixels put it: within
-        // `MAX_CRACK_SHIFT` of the crack midpoint across the crack. Where the coverage is
+        // The edge must also stay where the thresholded pixels put it: within the window's
+        // shift across the crack (`MAX_CRACK_SHIFT` on sharp edges). Where the coverage is
         // not a clean step from ink to paper (soft gradients, tinted fills, shading), the
         // integral can move the edge a pixel or more into a region the mask calls the other
         // side; the threshold crossing below cannot.
