@@ -70,6 +70,9 @@
 //!        corner's wedge, background centres outside. A digitised curve taken for a
 //!        corner fails this and is smoothed instead. The points next to a kept corner are
 //!        regressed again with the corner in their windows.
+//!    * *Soft edges*: a boundary where more than `SOFT_SHARE` of the ±2 px integration
+//!      windows end short of paper or ink (a blurred or upscaled edge) is refined again
+//!      with `Window::SOFT` (±8 px, up to 1 px across the crack).
 //!    * *Noisy grey levels*: a grey-level outline whose refined points are noisy
 //!      (`outline_noise` above `NOISE_LIMIT`: JPEG ringing, scanner grain) is replaced
 //!      by the bilevel outline of its pixels, so the fit does not follow the noise.
