@@ -381,23 +381,16 @@ pub(crate) fn check_again(
     // A closed path whose box misses the tiles looked at crosses each of their rows
     // left of a pixel an even number of times, or not at all: it cannot change a
     // pixel's side, and is skipped whole.
-    let crossing_lines: Vec<Vec<Point>>;
-    let lines = match &dirty {
-        None => &polylines,
-        Some(d) => {
-            crossing_lines = polylines
-                .iter()
-                .zip(&boxes)
-                .map(|(line, b)| match b {
-                    Some(b) if d.near_box(*b, 0.0) => line.clone(),
-                    _ => Vec::new(),
-                })
-                .collect();
-            &crossing_lines
-        }
+    let crosses = |i: usize| match &dirty {
+        None => true,
+        Some(d) => matches!(boxes[i], Some(b) if d.near_box(b, 0.0)),
     };
-    for e in grid::all_edges(lines) {
-        let (a, b) = (e.a, e.b);
+    let edges = polylines
+        .iter()
+        .enumerate()
+        .filter(|&(i, line)| line.len() >= 2 && crosses(i))
+        .flat_map(|(_, line)| (0..line.len()).map(|k| (line[k], line[(k + 1) % line.len()])));
+    for (a, b) in edges {
         if a.y == b.y {
             continue;
         }
