@@ -34,6 +34,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from timing import run
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 BENCH = Path(os.environ.get("BENCH", ROOT.parent / "shared" / "bench")).resolve()
@@ -55,19 +57,6 @@ repeats = int(option("--repeats", "3"))
 keep = option("--keep", None)
 skip_corpus = "--skip-corpus" in args
 quality = "--quality" in args
-
-
-def run(cmd, cwd=None):
-    """Wall seconds, CPU seconds and peak RSS (MB) of one run of `cmd` (GNU time: the
-    resource usage of a child of this process would count Python's own memory)."""
-    start = time.perf_counter()
-    proc = subprocess.run(["/usr/bin/time", "-f", "%U %S %M", *cmd], cwd=cwd,
-                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    wall = time.perf_counter() - start
-    if proc.returncode != 0:
-        sys.exit(f"{' '.join(map(str, cmd))} failed: {proc.stderr[-2000:]}")
-    user, system, rss_kb = proc.stderr.strip().splitlines()[-1].split()
-    return wall, float(user) + float(system), float(rss_kb) / 1024
 
 
 def alternate(a, b):

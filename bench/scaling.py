@@ -15,14 +15,14 @@ time (/usr/bin/time).
 import os
 import random
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from skimage import data
+
+from timing import run
 
 args = [a for a in sys.argv[1:]]
 repeats = 3
@@ -71,20 +71,6 @@ def make_inputs(folder):
     for name, img in inputs:
         img.point(lambda v: 0 if v < 128 else 255).convert("1").save(os.path.join(folder, name + ".pbm"))
     return [name for name, _ in inputs]
-
-
-def run(cmd):
-    """Wall seconds, CPU seconds and peak RSS (MB) of one run of `cmd`, measured by GNU
-    time (the resource usage of a child of this process would count the memory it
-    inherited from Python before its exec)."""
-    start = time.perf_counter()
-    proc = subprocess.run(["/usr/bin/time", "-f", "%U %S %M", *cmd],
-                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    wall = time.perf_counter() - start
-    if proc.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed: {proc.stderr}")
-    user, system, rss_kb = proc.stderr.strip().splitlines()[-1].split()
-    return wall, float(user) + float(system), float(rss_kb) / 1024
 
 
 def median_run(cmd):
