@@ -37,26 +37,11 @@ fn inside(polys: &[Vec<Pt>], x: f64, y: f64) -> bool {
 
 /// Coverage by `ss`×`ss` supersampling of every pixel, at `scale` pixels per unit.
 fn coverage(shape: &Shape, scale: u32, ss: u32) -> Vec<f32> {
-    let n = shape.size * scale;
-    let mut out = vec![0f32; (n * n) as usize];
-    for r in 0..n {
-        for c in 0..n {
-            let mut hits = 0;
-            for i in 0..ss {
-                for j in 0..ss {
-                    let x =
-                        (f64::from(c) + (f64::from(j) + 0.5) / f64::from(ss)) / f64::from(scale);
-                    let y =
-                        (f64::from(r) + (f64::from(i) + 0.5) / f64::from(ss)) / f64::from(scale);
-                    if inside(&shape.polygons, x, y) {
-                        hits += 1;
-                    }
-                }
-            }
-            out[(r * n + c) as usize] = hits as f32 / (ss * ss) as f32;
-        }
-    }
-    out
+    let n = (shape.size * scale) as usize;
+    let scale = f64::from(scale);
+    common::supersampled_coverage(n, n, ss, |x, y| {
+        inside(&shape.polygons, x / scale, y / scale)
+    })
 }
 
 fn circle(cx: f64, cy: f64, r: f64) -> Vec<Pt> {

@@ -1,6 +1,8 @@
 //! An image with many contours has them fitted in parallel; the result must not depend on
 //! the number of threads, down to the last bit of every number.
 
+mod common;
+
 use outlinefit::optim::Algorithm;
 use outlinefit::Bitmap;
 use outlinefit::{to_svg, ExportOptions};
@@ -33,18 +35,7 @@ fn page() -> Bitmap {
 /// A `w` × `h` coverage image of the shape `inside` (true inside), from 4 × 4 samples
 /// per pixel.
 fn supersampled(w: usize, h: usize, inside: impl Fn(f64, f64) -> bool) -> Bitmap {
-    let mut coverage = vec![0.0f32; w * h];
-    for (i, c) in coverage.iter_mut().enumerate() {
-        let (px, py) = ((i % w) as f64, (i / w) as f64);
-        let mut n = 0;
-        for sy in 0..4 {
-            for sx in 0..4 {
-                let (x, y) = (px + (sx as f64 + 0.5) / 4.0, py + (sy as f64 + 0.5) / 4.0);
-                n += u32::from(inside(x, y));
-            }
-        }
-        *c = n as f32 / 16.0;
-    }
+    let coverage = common::supersampled_coverage(w, h, 4, inside);
     Bitmap::from_coverage(w as u32, h as u32, coverage, None).unwrap()
 }
 

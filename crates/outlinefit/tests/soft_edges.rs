@@ -1,6 +1,8 @@
 //! A blurred shape (a soft scan, an out-of-focus photo) is the same shape: its outline
 //! must not come out in many more pieces than the sharp one's, nor farther from it.
 
+mod common;
+
 use outlinefit::{trace_bitmap, Bitmap, Config, TraceResult};
 use std::io::Cursor;
 use std::path::Path;
@@ -18,19 +20,9 @@ fn sharp() -> (usize, usize, Vec<f64>) {
         let bar = (u * 0.995 + v * 0.1).abs() < 70.0 && (v * 0.995 - u * 0.1).abs() < 14.0;
         (e <= 1.0 && hole > 1.0) || rounded || bar
     };
-    let coverage = (0..w * h)
-        .map(|i| {
-            let (px, py) = ((i % w) as f64, (i / w) as f64);
-            let n = (0..16)
-                .filter(|s| {
-                    inside(
-                        px + (f64::from(s % 4) + 0.5) / 4.0,
-                        py + (f64::from(s / 4) + 0.5) / 4.0,
-                    )
-                })
-                .count();
-            n as f64 / 16.0
-        })
+    let coverage = common::supersampled_coverage(w, h, 4, inside)
+        .into_iter()
+        .map(f64::from)
         .collect();
     (w, h, coverage)
 }

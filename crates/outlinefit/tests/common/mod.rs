@@ -8,7 +8,9 @@
 //!   (alpha if at least a tenth of the pixels are mostly transparent, else `1 - luma`);
 //! * [`coverage_iou`] compares two coverage fields (Σ min / Σ max);
 //! * [`samples_dir`] / [`sample_paths`] locate the bundled samples;
-//! * [`scratch`] makes an empty folder for one test.
+//! * [`scratch`] makes an empty folder for one test;
+//! * [`supersampled_coverage`] draws a shape given by an inside test, `ss` × `ss`
+//!   samples per pixel.
 //!
 //! Coverage fields are row-major, `width * height` values in `[0, 1]`,
 //! 1 meaning "inside the shape".
@@ -118,4 +120,29 @@ pub fn sample_paths() -> Vec<PathBuf> {
         .collect();
     paths.sort();
     paths
+}
+
+/// Coverage of a `w` × `h` image by the shape `inside` (true inside, in pixel
+/// coordinates), from `ss` × `ss` samples per pixel at (column + (j + 0.5) / ss,
+/// row + (i + 0.5) / ss).
+pub fn supersampled_coverage(
+    w: usize,
+    h: usize,
+    ss: u32,
+    inside: impl Fn(f64, f64) -> bool,
+) -> Vec<f32> {
+    let mut out = vec![0f32; w * h];
+    for (k, c) in out.iter_mut().enumerate() {
+        let (px, py) = ((k % w) as f64, (k / w) as f64);
+        let mut hits = 0;
+        for i in 0..ss {
+            for j in 0..ss {
+                let x = px + (f64::from(j) + 0.5) / f64::from(ss);
+                let y = py + (f64::from(i) + 0.5) / f64::from(ss);
+                hits += u32::from(inside(x, y));
+            }
+        }
+        *c = hits as f32 / (ss * ss) as f32;
+    }
+    out
 }
