@@ -7,8 +7,11 @@ use crate::geom::{floor_i64, segment_distance, Point};
 const CELL: f64 = 2.0;
 /// Most cells of the edge grid per drawn edge (and at least `MIN_CELLS`): the grid's
 /// memory follows the outline's length, not the image's area (a 4096 px image with a
-/// simple outline would otherwise spend 4 bytes per pixel on mostly empty cells).
-const CELLS_PER_EDGE: f64 = 4.0;
+/// simple outline would otherwise spend 4 bytes per pixel on mostly empty cells). One cell
+/// per edge: on the 600 dpi scan (a million edges) the cells are then 5.9 px wide and the
+/// grid takes 11 MB less than with four (3 px cells), for the same check time; a query
+/// looks at more edges per cell but at fewer cells.
+const CELLS_PER_EDGE: f64 = 1.0;
 /// Fewest cells the grid is allowed to shrink to.
 const MIN_CELLS: f64 = 4096.0;
 
@@ -70,10 +73,15 @@ impl<'a> EdgeGrid<'a> {
         [x0, y0, x1, y1]: [f64; 4],
         keep: impl Fn(&Edge) -> bool,
     ) -> EdgeGrid<'a> {
-        let edges: Vec<(u32, u32)> = all_edges(polylines)
-            .filter(|e| keep(e))
-            .map(|e| (e.contour, e.index))
-            .collect();
+        // Counted first, so that the list is allocated at its size (a page has a million
+        // edges; growing by doubling would leave up to half of it unused).
+        let kept = all_edges(polylines).filter(|e| keep(e)).count();
+        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(kept);
+        edges.extend(
+            all_edges(polylines)
+                .filter(|e| keep(e))
+                .map(|e| (e.contour, e.index)),
+        );
         let all_edges = || edges.iter().map(|&e| edge_of(polylines, e));
         let (width, height) = ((x1 - x0).max(1.0), (y1 - y0).max(1.0));
         let origin = Point::new(x0, y0);
