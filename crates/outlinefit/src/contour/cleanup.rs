@@ -187,6 +187,8 @@ impl Workspace {
             }
             i = j;
         }
+        // The contour is kept to the end of the trace: without the room it grew into.
+        out.shrink_to_fit();
         out
     }
 }

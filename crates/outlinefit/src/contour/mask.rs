@@ -340,8 +340,9 @@ impl PaddedMask {
             for (cx, cy) in cracks.iter().filter_map(vertical_crack) {
                 self.traced.set(cy * w + cx);
             }
+            // A copy at its size: the buffer grew by doubling and is reused.
             found.push(FoundBorder {
-                cracks: std::mem::take(&mut cracks),
+                cracks: cracks.clone(),
                 is_hole,
                 parent: None,
             });
