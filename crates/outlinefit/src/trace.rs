@@ -356,7 +356,7 @@ pub fn trace_bitmap_with_progress(
     config.validate()?;
     let started = Instant::now();
     progress.stage(Stage::Borders, 0);
-    let extraction = contour::extract_borders(
+    let mut extraction = contour::extract_borders(
         bitmap,
         &ContourOptions {
             min_area: config.min_area,
@@ -387,9 +387,13 @@ pub fn trace_bitmap_with_progress(
     };
     // Merged curves come beside their contour (a repaired contour is drawn by its own
     // segments, see `repair`).
-    let fit_indexed = |(i, c): (usize, &Contour)| -> Result<(FittedContour, Vec<MergedCurve>)> {
-        let fitted = fit_one(find_breaks(c, &break_options), i)?;
+    // Each contour is consumed by its fit: the fitted contour keeps the points, and the
+    // repair re-traces from the borders, so the extracted copy is not kept (on a page it
+    // is as large as the fitted points).
+    let fit_indexed = |(i, c): (usize, Contour)| -> Result<(FittedContour, Vec<MergedCurve>)> {
+        let fitted = fit_one(find_breaks(&c, &break_options), i)?;
         progress.advance(c.points.len() as u64);
+        drop(c);
         let merged = merge_options.as_ref().map_or_else(Vec::new, |opts| {
             merge::outline::merge_contour(&fitted, opts)
         });
@@ -404,21 +408,16 @@ pub fn trace_bitmap_with_progress(
     let sizes = extraction.contours.iter().map(|c| c.points.len());
     let (points, largest) = sizes.fold((0, 0), |(sum, max), n| (sum + n, max.max(n)));
     progress.stage(Stage::Fitting, points as u64);
+    let contours = std::mem::take(&mut extraction.contours);
     let results: Vec<Result<_>> = if points - largest >= PARALLEL_FIT_POINTS {
         use rayon::prelude::*;
-        extraction
-            .contours
-            .par_iter()
+        contours
+            .into_par_iter()
             .enumerate()
             .map(fit_indexed)
             .collect()
     } else {
-        extraction
-            .contours
-            .iter()
-            .enumerate()
-            .map(fit_indexed)
-            .collect()
+        contours.into_iter().enumerate().map(fit_indexed).collect()
     };
     let (mut fitted, mut merged): (Vec<FittedContour>, Vec<Vec<MergedCurve>>) = results
         .into_iter()
