@@ -214,6 +214,13 @@ pub(super) struct PaddedMask {
 }
 
 impl PaddedMask {
+    /// Frees the record of traced cracks, which only [`PaddedMask::borders`] uses: a mask
+    /// kept for re-tracing borders later needs just its foreground (a bit per pixel; 4 MB
+    /// on a 600 dpi page).
+    pub(super) fn forget_traced(&mut self) {
+        self.traced = Bits::new(0);
+    }
+
     /// `None` when the padded size does not fit the cracks' 32-bit coordinates.
     pub(super) fn new(bitmap: &Bitmap) -> Option<PaddedMask> {
         let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);

@@ -359,6 +359,7 @@ fn extract_with(
         return Ok(empty(mask));
     }
     let found = mask.borders();
+    mask.forget_traced();
 
     let trace_one = |work: &mut Workspace, border: FoundBorder| -> (Option<Contour>, Border) {
         let (cracks, is_hole) = (border.cracks, border.is_hole);
