@@ -523,3 +523,65 @@ impl Workspace {
         self.anchors = anchors;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Coverage of a 100 × 12 image whose ink lies left of x = `edge`, blurred by a
+    /// Gaussian of `sigma` px (each pixel the mean over 64 columns of the blurred step).
+    fn blurred_step(edge: f64, sigma: f64) -> Bitmap {
+        let (w, h) = (100usize, 12usize);
+        let column = |c: usize| {
+            let samples = 64;
+            (0..samples)
+                .map(|k| {
+                    let x = c as f64 + (k as f64 + 0.5) / samples as f64;
+                    0.5 * statrs::function::erf::erfc(
+                        (x - edge) / (sigma * std::f64::consts::SQRT_2),
+                    )
+                })
+                .sum::<f64>()
+                / samples as f64
+        };
+        let row: Vec<f32> = (0..w).map(|c| column(c) as f32).collect();
+        let coverage = (0..h).flat_map(|_| row.iter().copied()).collect();
+        Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap()
+    }
+
+    /// The edge width the refinement estimates, against blurred edges of known σ: the
+    /// ±2 px window stays closed on a sharp or slightly blurred edge and finds it; it is
+    /// open on edges blurred by 2 and 3 px, whose position it misjudges towards the crack;
+    /// the soft window (±8 px) is closed there and finds the edge again.
+    #[test]
+    fn open_windows_tell_blurred_edges_of_known_width() {
+        let edge = 50.3;
+        // The thresholded boundary: the crack between columns 49 and 50, facing paper.
+        let (m, n) = (Point::new(50.0, 6.5), Point::new(1.0, 0.0));
+        let truth = edge - m.x;
+        for sigma in [0.3, 0.5, 0.8] {
+            let b = blurred_step(edge, sigma);
+            let (s, open) = integrate_edge(&b, m, n, Window::SHARP.steps);
+            assert!(!open, "σ = {sigma}: the sharp window is open");
+            assert!(
+                (s - truth).abs() < 0.02,
+                "σ = {sigma}: edge at {s}, truth {truth}"
+            );
+        }
+        for sigma in [2.0, 3.0] {
+            let b = blurred_step(edge, sigma);
+            let (sharp, open) = integrate_edge(&b, m, n, Window::SHARP.steps);
+            assert!(open, "σ = {sigma}: the sharp window is closed");
+            let (soft, open) = integrate_edge(&b, m, n, Window::SOFT.steps);
+            assert!(!open, "σ = {sigma}: the soft window is open");
+            assert!(
+                (soft - truth).abs() < 0.02,
+                "σ = {sigma}: soft edge at {soft}, truth {truth}"
+            );
+            assert!(
+                (sharp - truth).abs() > 2.0 * (soft - truth).abs(),
+                "σ = {sigma}: sharp {sharp}, soft {soft}, truth {truth}"
+            );
+        }
+    }
+}
