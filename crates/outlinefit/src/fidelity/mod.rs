@@ -43,7 +43,7 @@ use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::raster::Bitmap;
 use dense::{dense_regions, UNDECIDED};
 use dirty::Dirty;
-use grid::{Edge, EdgeGrid};
+use grid::{Edge, EdgeGrid, Vertex};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashSet;
@@ -185,17 +185,17 @@ impl Limits {
     }
 }
 
-/// The drawn outline of every contour as closed polylines, and for each point the
-/// segment it belongs to (`u32::MAX` where merged curves are drawn).
+/// The drawn outline of every contour as closed polylines, and for each the segments its
+/// points belong to ([`SegmentRuns`]; `u32::MAX` where merged curves are drawn).
 fn flatten(
     contours: &[FittedContour],
     merged: &[Vec<MergedCurve>],
     bound: f64,
-) -> Vec<(Vec<Point>, Vec<u32>)> {
+) -> Vec<(Vec<Vertex>, SegmentRuns)> {
     let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
     let flatten_one = |(i, c): (usize, &FittedContour)| {
         if c.segments.is_empty() {
-            return (Vec::new(), Vec::new());
+            return (Vec::new(), SegmentRuns::default());
         }
         let merged = merged.get(i).map_or(&[][..], Vec::as_slice);
         let pieces = drawing_pieces(c, merged, bound);
@@ -216,11 +216,11 @@ fn flatten(
         let (mut out, mut segments) = (Vec::with_capacity(size), Vec::with_capacity(size));
         let mut steps = steps.into_iter();
         for (k, (start, cubics)) in pieces.into_iter().enumerate() {
-            out.push(start);
+            out.push(Vertex::new(start));
             segments.push(segment_of(k));
             for (cubic, n) in cubics.iter().zip(&mut steps) {
                 for j in 1..=n {
-                    out.push(cubic.eval(j as f64 / n as f64));
+                    out.push(Vertex::new(cubic.eval(j as f64 / n as f64)));
                     segments.push(segment_of(k));
                 }
             }
@@ -232,12 +232,38 @@ fn flatten(
             let mut flags = keep.iter();
             segments.retain(|_| *flags.next().unwrap_or(&false));
         }
-        (out, segments)
+        (out, SegmentRuns::new(&segments))
     };
     if parallel {
         contours.par_iter().enumerate().map(flatten_one).collect()
     } else {
         contours.iter().enumerate().map(flatten_one).collect()
+    }
+}
+
+/// Which segment each point of a drawn polyline belongs to, as runs: (first point, segment)
+/// for each run of points of one segment. A few bytes per segment instead of four per
+/// point.
+#[derive(Clone, Debug, Default)]
+struct SegmentRuns(Vec<(u32, u32)>);
+
+impl SegmentRuns {
+    /// The runs of `segments` (one per point).
+    fn new(segments: &[u32]) -> SegmentRuns {
+        let mut runs: Vec<(u32, u32)> = Vec::new();
+        for (k, &s) in segments.iter().enumerate() {
+            if runs.last().is_none_or(|r| r.1 != s) {
+                runs.push((k as u32, s));
+            }
+        }
+        runs.shrink_to_fit();
+        SegmentRuns(runs)
+    }
+
+    /// The segment of point `k`.
+    fn at(&self, k: u32) -> u32 {
+        let run = self.0.partition_point(|r| r.0 <= k);
+        self.0[run.saturating_sub(1)].1
     }
 }
 
@@ -286,9 +312,9 @@ pub(crate) fn check_again(
     excused: &HashSet<u32>,
     earlier: Option<(&Findings, &[bool])>,
 ) -> Findings {
-    let (polylines, segment_of): (Vec<Vec<Point>>, Vec<Vec<u32>>) =
+    let (polylines, segment_of): (Vec<Vec<Vertex>>, Vec<SegmentRuns>) =
         flatten(contours, merged, limits.bound).into_iter().unzip();
-    let boxes: Vec<Option<[f64; 4]>> = polylines.iter().map(|line| bounding_box(line)).collect();
+    let boxes: Vec<Option<[f64; 4]>> = polylines.iter().map(|line| vertex_box(line)).collect();
     let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
     let far_limit = limits.far();
     // Reach (px) within which the drawn edges decide what the check finds at a pixel:
@@ -337,7 +363,7 @@ pub(crate) fn check_again(
         }
         let at = |&p: &Point| match grid.nearest(p, deviation_reach, Some(i as u32)) {
             Some((d, _)) => d,
-            None => distance_to_closed_polyline(p, &polylines[i]),
+            None => distance_to_closed_polyline(p, &points_of(&polylines[i])),
         };
         let deviation: Vec<f64> = if parallel && c.points.len() >= PARALLEL_POINTS {
             c.points.par_iter().map(at).collect()
@@ -389,7 +415,9 @@ pub(crate) fn check_again(
         .iter()
         .enumerate()
         .filter(|&(i, line)| line.len() >= 2 && crosses(i))
-        .flat_map(|(_, line)| (0..line.len()).map(|k| (line[k], line[(k + 1) % line.len()])));
+        .flat_map(|(_, line)| {
+            (0..line.len()).map(|k| (line[k].point(), line[(k + 1) % line.len()].point()))
+        });
     for (a, b) in edges {
         if a.y == b.y {
             continue;
@@ -534,7 +562,7 @@ pub(crate) fn check_again(
         for &p in &pixels {
             let centre = Point::new((p as usize % w) as f64 + 0.5, (p as usize / w) as f64 + 0.5);
             if let Some((_, (c, k))) = grid.nearest(centre, REGION_REACH + far_limit, None) {
-                near.insert((c, segment_of[c as usize][k as usize]));
+                near.insert((c, segment_of[c as usize].at(k)));
             }
         }
         let mut near_segments: Vec<(usize, Option<usize>)> = near
@@ -584,13 +612,18 @@ pub(crate) fn check_again(
     }
 }
 
-/// The box `[x0, y0, x1, y1]` of `points`, if any.
-fn bounding_box(points: &[Point]) -> Option<[f64; 4]> {
-    let first = points.first()?;
+/// The vertices of a drawn polyline as points.
+fn points_of(line: &[Vertex]) -> Vec<Point> {
+    line.iter().map(|v| v.point()).collect()
+}
+
+/// The box `[x0, y0, x1, y1]` of a drawn polyline, if it has a vertex.
+fn vertex_box(line: &[Vertex]) -> Option<[f64; 4]> {
+    let first = line.first()?.point();
     Some(
-        points
-            .iter()
-            .fold([first.x, first.y, first.x, first.y], |b, p| {
+        line.iter()
+            .fold([first.x, first.y, first.x, first.y], |b, v| {
+                let p = v.point();
                 [b[0].min(p.x), b[1].min(p.y), b[2].max(p.x), b[3].max(p.y)]
             }),
     )
