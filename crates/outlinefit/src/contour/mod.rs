@@ -119,7 +119,7 @@ use crate::geom::{signed_area, Point};
 use crate::raster::Bitmap;
 use bilevel::{follows_cracks, smoothed_cracks};
 use grey::{outline_noise, EdgeEstimator, Window, NOISE_LIMIT, SOFT_SHARE};
-use mask::{Crack, FoundBorder, PaddedMask};
+use mask::{CrackLoop, FoundBorder, PaddedMask};
 use serde::Serialize;
 use spikes::extend_spikes;
 use workspace::Workspace;
@@ -177,7 +177,7 @@ pub(crate) struct Extraction {
 
 /// One border of the thresholded mask.
 pub(crate) struct Border {
-    cracks: Vec<Crack>,
+    cracks: CrackLoop,
     /// True for the border of a hole.
     pub(crate) is_hole: bool,
     /// Index of the enclosing border.
@@ -239,7 +239,7 @@ impl Extraction {
                 // so that the outline is held at them and the pixels on either side stay
                 // apart (a checkerboard is cells, not diagonal stripes).
                 let mut points = Vec::with_capacity(b.cracks.len());
-                for &c in &b.cracks {
+                for c in b.cracks.iter() {
                     if self.mask.leaves_pinch(c) {
                         points.push(c.start());
                     }
@@ -248,12 +248,13 @@ impl Extraction {
                 points
             }
             PixelTrace::Smoothed => {
+                let cracks = b.cracks.to_vec();
                 let mut work = Workspace::default();
-                let fitted = work.bilevel_outline(&b.cracks, &self.mask);
-                if follows_cracks(&fitted, &b.cracks) {
+                let fitted = work.bilevel_outline(&cracks, &self.mask);
+                if follows_cracks(&fitted, &cracks) {
                     fitted
                 } else {
-                    smoothed_cracks(&b.cracks)
+                    smoothed_cracks(&cracks)
                 }
             }
         };
@@ -398,7 +399,7 @@ fn extract_with(
             finish(points, is_hole, border.parent, opts.min_area)
         };
         let border = Border {
-            cracks,
+            cracks: CrackLoop::new(&cracks),
             is_hole,
             parent: border.parent,
         };
