@@ -17,7 +17,7 @@ use crate::raster::Bitmap;
 /// padded coordinates) and its direction, with the foreground on its right. Twelve bytes,
 /// since a large image has millions and every border keeps its own; the geometry is
 /// derived on demand.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Crack {
     x: i32,
     y: i32,
@@ -662,6 +662,21 @@ mod tests {
                 }
             }
             assert_eq!(seen.len(), all);
+        }
+    }
+
+    /// A border kept as a crack loop gives back exactly the cracks it was made from.
+    #[test]
+    fn crack_loops_give_back_their_cracks() {
+        let mut rng = ChaCha8Rng::seed_from_u64(6);
+        for _ in 0..20 {
+            let bitmap = random_mask(&mut rng, 40, 30, 0.5, 1);
+            let mut mask = PaddedMask::new(&bitmap).unwrap();
+            for b in mask.borders() {
+                let kept = CrackLoop::new(&b.cracks);
+                assert_eq!(kept.len(), b.cracks.len());
+                assert_eq!(kept.to_vec(), b.cracks);
+            }
         }
     }
 }

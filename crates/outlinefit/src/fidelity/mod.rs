@@ -933,4 +933,15 @@ mod tests {
             }
         }
     }
+
+    /// The runs give every point its segment, merged curves (`u32::MAX`) included.
+    #[test]
+    fn segment_runs_give_each_point_its_segment() {
+        let segments = [0, 0, 1, 1, 1, 2, u32::MAX, u32::MAX, 4];
+        let runs = SegmentRuns::new(&segments);
+        assert_eq!(runs.0.len(), 5);
+        for (k, &s) in segments.iter().enumerate() {
+            assert_eq!(runs.at(k as u32), s, "point {k}");
+        }
+    }
 }
