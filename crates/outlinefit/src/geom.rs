@@ -259,11 +259,12 @@ pub(crate) fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
     p.distance(a + ab * t)
 }
 
-/// Distance from `p` to a closed polyline (infinite for an empty one).
-pub(crate) fn distance_to_closed_polyline(p: Point, points: &[Point]) -> f64 {
+/// Distance from `p` to a closed polyline (infinite for an empty one), whose vertices are
+/// points or anything that converts to one.
+pub(crate) fn distance_to_closed_polyline<T: Copy + Into<Point>>(p: Point, points: &[T]) -> f64 {
     let n = points.len();
     (0..n)
-        .map(|k| segment_distance(p, points[k], points[(k + 1) % n]))
+        .map(|k| segment_distance(p, points[k].into(), points[(k + 1) % n].into()))
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -56,6 +56,12 @@ impl Vertex {
     }
 }
 
+impl From<Vertex> for Point {
+    fn from(v: Vertex) -> Point {
+        v.point()
+    }
+}
+
 /// Edge `k` of polyline `contour` (from point k to the next, closing the loop).
 #[inline]
 pub(super) fn edge_of(polylines: &[Vec<Vertex>], (contour, k): (u32, u32)) -> Edge {

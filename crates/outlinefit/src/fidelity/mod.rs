@@ -363,7 +363,7 @@ pub(crate) fn check_again(
         }
         let at = |&p: &Point| match grid.nearest(p, deviation_reach, Some(i as u32)) {
             Some((d, _)) => d,
-            None => distance_to_closed_polyline(p, &points_of(&polylines[i])),
+            None => distance_to_closed_polyline(p, &polylines[i]),
         };
         let deviation: Vec<f64> = if parallel && c.points.len() >= PARALLEL_POINTS {
             c.points.par_iter().map(at).collect()
@@ -610,11 +610,6 @@ pub(crate) fn check_again(
         near_pixels,
         boxes,
     }
-}
-
-/// The vertices of a drawn polyline as points.
-fn points_of(line: &[Vertex]) -> Vec<Point> {
-    line.iter().map(|v| v.point()).collect()
 }
 
 /// The box `[x0, y0, x1, y1]` of a drawn polyline, if it has a vertex.

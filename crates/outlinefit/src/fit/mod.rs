@@ -156,7 +156,7 @@ pub struct FittedSegment {
 /// not compute them again. They stay tied to the curve and bound they were made for.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct DrawnCubics {
-    /// A 64-bit fingerprint of the curve and bound they were made for ([`made_for`]):
+    /// A 64-bit fingerprint of the curve and bound they were made for ([`fingerprint`]):
     /// eight bytes per segment instead of a copy of the curve (a page has 35 000).
     made_for: Option<u64>,
     cubics: Vec<crate::curve::CubicBez>,
@@ -164,7 +164,7 @@ pub(crate) struct DrawnCubics {
 
 /// The fingerprint of a curve and a bound: a hash of their bits, with fixed keys (the same
 /// in every run).
-fn made_for(curve: &RationalCubic, bound: f64) -> u64 {
+fn fingerprint(curve: &RationalCubic, bound: f64) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     for p in &curve.points {
@@ -186,7 +186,7 @@ impl DrawnCubics {
         cubics: Vec<crate::curve::CubicBez>,
     ) -> Self {
         DrawnCubics {
-            made_for: Some(made_for(&curve, bound)),
+            made_for: Some(fingerprint(&curve, bound)),
             cubics,
         }
     }
@@ -199,7 +199,7 @@ impl FittedSegment {
     /// computed now.
     pub fn drawn_cubics(&self, bound: f64) -> std::borrow::Cow<'_, [crate::curve::CubicBez]> {
         match self.drawn.made_for {
-            Some(print) if print == made_for(&self.curve, bound) => {
+            Some(print) if print == fingerprint(&self.curve, bound) => {
                 std::borrow::Cow::Borrowed(&self.drawn.cubics)
             }
             _ => std::borrow::Cow::Owned(crate::curve::approximate_with_cubics(&self.curve, bound)),
