@@ -15,8 +15,8 @@ use crate::raster::Bitmap;
 
 /// One pixel edge between a foreground and a background pixel: the vertex it leaves (in
 /// padded coordinates) and its direction, with the foreground on its right. Twelve bytes,
-/// since a large image has millions and every border keeps its own; the geometry is
-/// derived on demand.
+/// the geometry derived on demand; a border kept after the scan stores its cracks as a
+/// [`CrackLoop`], a byte each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Crack {
     x: i32,
