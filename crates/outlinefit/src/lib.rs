@@ -58,6 +58,7 @@
 //! surface fitting of the papers are the `outlinefit-lab` crate.
 
 mod breaks;
+pub mod centerline;
 pub mod colour;
 mod contour;
 pub mod curve;

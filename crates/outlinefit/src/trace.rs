@@ -241,6 +241,25 @@ pub struct ImageInfo {
     pub frames: u32,
 }
 
+impl ImageInfo {
+    /// What `bitmap` says about its image.
+    pub(crate) fn of(bitmap: &Bitmap) -> Self {
+        ImageInfo {
+            width: bitmap.width(),
+            height: bitmap.height(),
+            threshold: bitmap.threshold_value(),
+            threshold_scale: bitmap.threshold_scale(),
+            bilevel: bitmap.is_bilevel(),
+            from_alpha: bitmap.from_alpha(),
+            threshold_mode: bitmap.threshold_mode(),
+            dark_border: bitmap.dark_border(),
+            border_foreground: bitmap.border_foreground(),
+            frame: bitmap.frame().0,
+            frames: bitmap.frame().1,
+        }
+    }
+}
+
 /// The outcome of tracing one image.
 #[derive(Clone, Debug, Serialize)]
 pub struct TraceResult {
@@ -303,7 +322,7 @@ pub fn trace_file(path: &Path, config: &Config) -> Result<TraceResult> {
 }
 
 /// Why an image gave no contour: no foreground at all, or only shapes below `min_area`.
-fn nothing_traced(bitmap: &Bitmap, min_area: f64) -> Error {
+pub(crate) fn nothing_traced(bitmap: &Bitmap, min_area: f64) -> Error {
     let mask = bitmap.mask();
     if mask.pixels().all(|p| p[0] == 0) {
         let transparent = bitmap.transparent_fraction();
@@ -469,19 +488,7 @@ pub fn trace_bitmap_with_progress(
         0.0
     };
     Ok(TraceResult {
-        image: ImageInfo {
-            width: bitmap.width(),
-            height: bitmap.height(),
-            threshold: bitmap.threshold_value(),
-            threshold_scale: bitmap.threshold_scale(),
-            bilevel: bitmap.is_bilevel(),
-            from_alpha: bitmap.from_alpha(),
-            threshold_mode: bitmap.threshold_mode(),
-            dark_border: bitmap.dark_border(),
-            border_foreground: bitmap.border_foreground(),
-            frame: bitmap.frame().0,
-            frames: bitmap.frame().1,
-        },
+        image: ImageInfo::of(bitmap),
         contours: fitted,
         merged,
         fidelity,

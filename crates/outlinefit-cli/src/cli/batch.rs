@@ -1,6 +1,7 @@
 //! `outlinefit batch`: every image of a folder, in parallel.
 
 use super::args::{whole, FitArgs};
+use super::centerline::{centerline_problem, centerline_warnings, ModeArgs};
 use super::colour::{colour_problem, colour_warnings, ColourArgs};
 use super::format::FormatArgs;
 use super::messages::{error_line, fidelity_problem, panic_message, trace_warnings};
@@ -8,9 +9,12 @@ use super::output::resolve_output;
 use anyhow::{bail, Context};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use outlinefit::centerline::{self, trace_centerline, CenterlineResult, StrokeWidth};
 use outlinefit::colour::{self, ColourOptions, ColourTrace};
 use outlinefit::io::{remove_stale_temporaries, write_atomic, write_atomic_with};
-use outlinefit::{export, report, trace_file, Config, ExportOptions, Format, TraceResult};
+use outlinefit::{
+    export, report, trace_file, Bitmap, Config, ExportOptions, Format, TraceResult,
+};
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -78,6 +82,8 @@ pub(crate) struct BatchArgs {
     #[command(flatten)]
     colour: ColourArgs,
     #[command(flatten)]
+    mode: ModeArgs,
+    #[command(flatten)]
     fit: FitArgs,
 }
 
@@ -134,6 +140,16 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
         format,
         options: export_options,
         colour: args.colour.options(&config, format)?,
+        centerline: None,
+    };
+    let writing = Writing {
+        centerline: args.mode.centerline(
+            &args.fit,
+            &config,
+            format,
+            writing.colour.is_some(),
+        )?,
+        ..writing
     };
     if !args.input.is_dir() {
         bail!("{} is not a folder", args.input.display());
@@ -319,11 +335,14 @@ struct Writing {
     options: ExportOptions,
     /// Colour tracing (`--palette`), or `None` for one shape.
     colour: Option<ColourOptions>,
+    /// The stroke width of centre-line tracing (`--mode centerline`), or `None`.
+    centerline: Option<StrokeWidth>,
 }
 
 /// What one file's trace gave, for its summary row.
 enum Traced {
     Shape(TraceResult),
+    Centerline(CenterlineResult),
     Colour(ColourTrace),
 }
 
@@ -379,6 +398,25 @@ fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> R
                 )?;
                 return Ok(Traced::Colour(trace));
             }
+            if let Some(width) = writing.centerline {
+                let bitmap = Bitmap::load(&job.input, &config.raster_options())?;
+                let result = trace_centerline(&bitmap, config, width)?;
+                if args.fit.strict {
+                    if let Some(problem) = centerline_problem(config, &result) {
+                        bail!("{problem}; nothing written (--strict)");
+                    }
+                }
+                if !args.svg_only {
+                    let target =
+                        resolve_output(&with_suffix(&base, ".json"), args.follow_symlinks)?;
+                    write_atomic_with(&target, |w| {
+                        centerline::write_json(w, config, &row.file, &result)
+                    })?;
+                }
+                let target = resolve_output(&out_path, args.follow_symlinks)?;
+                write_atomic(&target, centerline::centerline_svg(&result).as_bytes())?;
+                return Ok(Traced::Centerline(result));
+            }
             let result = trace_file(&job.input, config)?;
             if args.fit.strict {
                 if let Some(problem) = fidelity_problem(config, &result) {
@@ -410,6 +448,18 @@ fn process(job: &Job, args: &BatchArgs, config: &Config, writing: &Writing) -> R
             row.curves = row.segments;
             row.max_distance = f.max_deviation;
             row.warnings = colour_warnings(&row.file, config, trace);
+        }
+        Ok(Traced::Centerline(result)) => {
+            let c = &result.check;
+            row.checked(config, c.held, 0.0, c.largest_region as f64);
+            row.segments = result.segment_count();
+            row.curves = result.strokes.len();
+            row.max_distance = result
+                .strokes
+                .iter()
+                .map(|s| s.centre_max)
+                .fold(0.0, f64::max);
+            row.warnings = centerline_warnings(&row.file, config, result);
         }
         Ok(Traced::Shape(result)) => {
             let f = &result.fidelity;

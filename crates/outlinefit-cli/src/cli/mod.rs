@@ -3,6 +3,7 @@
 mod args;
 mod batch;
 mod bspline;
+mod centerline;
 mod colour;
 mod compare;
 mod format;

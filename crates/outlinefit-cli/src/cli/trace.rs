@@ -2,6 +2,7 @@
 //! reports out.
 
 use super::args::FitArgs;
+use super::centerline::{centerline_problem, centerline_warnings, ModeArgs};
 use super::colour::{colour_problem, colour_warnings, ColourArgs};
 use super::format::{is_known_ending, FormatArgs};
 use super::messages::{fidelity_problem, trace_warnings};
@@ -9,6 +10,7 @@ use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_
 use super::progress::TerminalProgress;
 use anyhow::{bail, Context};
 use clap::Args;
+use outlinefit::centerline::{self, trace_centerline};
 use outlinefit::colour;
 use outlinefit::export;
 use outlinefit::io::ensure_output_dir_exists;
@@ -73,6 +75,8 @@ pub(crate) struct TraceArgs {
     #[arg(long, help_heading = "Output", hide_short_help = true)]
     follow_symlinks: bool,
     #[command(flatten)]
+    mode: ModeArgs,
+    #[command(flatten)]
     fit: FitArgs,
 }
 
@@ -109,6 +113,12 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         eprintln!("{note}");
     }
     let colour = args.colour.options(&config, format)?;
+    let centerline = args
+        .mode
+        .centerline(&args.fit, &config, format, colour.is_some())?;
+    if centerline.is_some() && args.params {
+        bail!("--params lists the points of outline segments; leave it out with --mode centerline");
+    }
     if colour.is_some() && args.overlay.is_some() {
         bail!("--overlay draws one-colour traces; leave it out with --palette");
     }
@@ -200,6 +210,34 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
         }
         let drawing = colour::export_colour(&trace, format, &export_options)?;
         write_output(&resolved[0], |w| w.write_all(&drawing))?;
+        return Ok(0);
+    }
+    if let Some(width) = centerline {
+        let bitmap = match &stdin_bytes {
+            Some(bytes) => Bitmap::load_bytes(bytes, Path::new("<stdin>"), &config.raster_options())?,
+            None => Bitmap::load(&args.input, &config.raster_options())?,
+        };
+        let result = trace_centerline(&bitmap, &config, width)?;
+        if args.fit.strict {
+            if let Some(problem) = centerline_problem(&config, &result) {
+                bail!("{name}: {problem}; nothing written (--strict)");
+            }
+        }
+        for w in centerline_warnings(&name, &config, &result) {
+            eprintln!("{w}");
+        }
+        for ((option, _), target) in named.iter().zip(&resolved).skip(1) {
+            write_output(target, |w| match *option {
+                "--report" => centerline::write_json(w, &config, &name, &result),
+                "--csv" => w.write_all(centerline::to_csv(&result).as_bytes()),
+                _ => w.write_all(
+                    centerline::centerline_overlay_svg(&result, Some(&bitmap.preview()))
+                        .as_bytes(),
+                ),
+            })?;
+        }
+        let svg = centerline::centerline_svg(&result);
+        write_output(&resolved[0], |w| w.write_all(svg.as_bytes()))?;
         return Ok(0);
     }
     let progress = TerminalProgress::new();

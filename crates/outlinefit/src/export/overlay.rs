@@ -378,7 +378,7 @@ fn legend(unit: f64, opts: &OverlayOptions, has_merged: bool, precision: usize) 
 }
 
 /// The image as a PNG, base64-encoded.
-fn png_base64(img: &image::GrayImage) -> Result<String, image::ImageError> {
+pub(crate) fn png_base64(img: &image::GrayImage) -> Result<String, image::ImageError> {
     let mut png = Vec::new();
     image::codecs::png::PngEncoder::new(&mut png).write_image(
         img.as_raw(),

@@ -237,7 +237,7 @@ pub(super) fn fit_piece(
 /// consecutive parameters to the chord of those points. The second catches a curve that
 /// passes through every point but loops out between two of them (a short segment with
 /// long tangent handles), which the first cannot see.
-fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
+pub(crate) fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
     let curve = sol.curve.power_form();
     let at_points = points
         .iter()

@@ -1,0 +1,605 @@
+//! Centre-line tracing: line art and handwriting as strokes with their width.
+//!
+//! The pipeline ([`trace_centerline`]):
+//!
+//! 1. **Mask and boundary.** The thresholded foreground, with specks and pin holes below
+//!    `min_area` removed, and its boundary traced exactly as for outlines (sub-pixel on
+//!    anti-aliased input).
+//! 2. **Skeleton** (`skeleton`): Zhang–Suen thinning of the mask to one pixel.
+//! 3. **Centres and radii** (`medial`): each skeleton point is moved across the stroke
+//!    until its distances to the boundary on the two sides are equal; the radius is that
+//!    distance. This uses the sub-pixel boundary, so on anti-aliased strokes the centre is
+//!    not tied to pixel centres.
+//! 4. **Stroke graph** (`graph`): end points, junctions and the paths between them.
+//!    A branch from an end point to a junction is a spur, and removed, when its disks
+//!    reach less than `max(1 px, 2 × tolerance)` beyond the junction's disk: it only
+//!    describes a bump of the boundary that high. Junctions closer than their radius are
+//!    one junction (thinning splits the crossing of two thick strokes in two). At a
+//!    junction, the two branches that turn least are one stroke, if they turn by at most
+//!    [`PAIR_TURN_DEGREES`]; so an "x" or a "t" is two strokes, a "T" two, a "Y" two. A
+//!    stroke that ends at a junction ends at its centre. At a free end, points whose disk
+//!    lies inside an earlier one are dropped: the medial axis of a round cap ends at the
+//!    cap's centre.
+//! 5. **Fit** (`fit`): each stroke as a chain of cubic disk Wang–Ball curves, corners
+//!    where the centre line turns by more than the corner angle, G1 joints elsewhere, the
+//!    centre within the tolerance of the centres, the radius within it of the radii (or
+//!    one radius per stroke with [`StrokeWidth::Constant`]).
+//! 6. **Check** (`check`): the drawn envelope (the union of the disks) is rasterised and
+//!    compared with the mask, as the outline check does: regions lost or invented.
+//!
+//! Written by hand: thinning (no maintained crate has it), the graph, the centring and
+//! the disk-curve fit. The curve fit itself is the outline fit's (`fit::solve`).
+
+mod check;
+mod fit;
+mod graph;
+mod medial;
+mod report;
+mod skeleton;
+mod svg;
+
+pub use check::StrokeCheck;
+pub use fit::StrokeSegment;
+pub use report::{to_csv, write_json};
+pub use svg::{centerline_overlay_svg, centerline_svg, CENTERLINE_WIDTH};
+
+use crate::contour::{self, ContourOptions};
+use crate::error::Result;
+use crate::geom::Point;
+use crate::raster::Bitmap;
+use crate::trace::{nothing_traced, Config, ImageInfo};
+use fit::{fit_stroke, StrokeFitOptions};
+use graph::{Graph, EdgeEnd};
+use medial::BoundaryIndex;
+use serde::Serialize;
+use skeleton::Grid;
+use std::time::Instant;
+
+/// Largest turn (degrees) at which a junction's two branches continue each other as one
+/// stroke.
+pub const PAIR_TURN_DEGREES: f64 = 50.0;
+
+/// A stroke is wider than a stroke-like shape when its centre line is shorter than this
+/// many widths.
+pub const STROKE_LIKE_LENGTH: f64 = 2.0;
+
+/// How the width of a stroke is fitted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StrokeWidth {
+    /// A radius function along the stroke (disk Wang–Ball curves), drawn as its filled
+    /// envelope.
+    Variable,
+    /// One width per stroke, drawn as a stroked centre line.
+    Constant,
+}
+
+impl StrokeWidth {
+    /// The name on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            StrokeWidth::Variable => "variable",
+            StrokeWidth::Constant => "constant",
+        }
+    }
+}
+
+/// How a stroke ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StrokeEnd {
+    /// A free end (a pen lift).
+    Free,
+    /// At a junction (an index into [`CenterlineResult::junctions`]).
+    Junction(usize),
+}
+
+/// One fitted stroke.
+#[derive(Clone, Debug, Serialize)]
+pub struct Stroke {
+    /// True for a closed loop (an "o").
+    pub closed: bool,
+    /// How it starts and ends (both `Free` for a closed stroke).
+    pub ends: [StrokeEnd; 2],
+    /// Length of the fitted centre line, px.
+    pub length: f64,
+    /// Smallest and largest width (2 × radius) of the fitted curves, px.
+    pub width_range: [f64; 2],
+    /// Largest distance from a measured centre to the fitted centre line, px.
+    pub centre_max: f64,
+    /// Root mean square of those distances, px.
+    pub centre_rms: f64,
+    /// Largest difference between a measured radius and the fitted one, px.
+    pub radius_max: f64,
+    /// Root mean square of those differences, px.
+    pub radius_rms: f64,
+    /// The pieces, in order along the stroke.
+    pub segments: Vec<StrokeSegment>,
+    /// The measured centres and radii that were fitted.
+    #[serde(skip)]
+    pub(crate) data: Vec<(Point, f64)>,
+}
+
+impl Stroke {
+    /// True when the centre line is shorter than [`STROKE_LIKE_LENGTH`] widths: a dot or a
+    /// filled blob, not a stroke.
+    pub fn is_stroke_like(&self) -> bool {
+        self.length >= STROKE_LIKE_LENGTH * self.width_range[1]
+    }
+
+    /// The area its disks cover, roughly (mean width × length + the end caps).
+    fn ink(&self) -> f64 {
+        let r = (self.width_range[0] + self.width_range[1]) / 4.0;
+        2.0 * r * self.length + std::f64::consts::PI * r * r
+    }
+}
+
+/// A junction of strokes.
+#[derive(Clone, Debug, Serialize)]
+pub struct Junction {
+    /// Its centre, px.
+    pub centre: Point,
+    /// Distance from the centre to the boundary, px.
+    pub radius: f64,
+    /// How many branches meet there.
+    pub branches: usize,
+}
+
+/// The outcome of a centre-line trace.
+#[derive(Clone, Debug, Serialize)]
+pub struct CenterlineResult {
+    /// What was detected about the input.
+    pub image: ImageInfo,
+    /// How widths were fitted.
+    pub stroke_width: StrokeWidth,
+    /// The strokes.
+    pub strokes: Vec<Stroke>,
+    /// The junctions.
+    pub junctions: Vec<Junction>,
+    /// Skeleton branches removed as spurs.
+    pub spurs_removed: usize,
+    /// The drawn strokes checked against the input.
+    pub check: StrokeCheck,
+    /// True when the strokes that are wider than long hold at least a quarter of the ink:
+    /// the image is filled shapes rather than line art.
+    pub not_stroke_like: bool,
+    /// Wall time, seconds (0 when timing is off).
+    pub seconds: f64,
+    /// The thinned skeleton's pixel centres (for the overlay).
+    #[serde(skip)]
+    pub(crate) skeleton: Vec<Point>,
+}
+
+impl CenterlineResult {
+    /// Number of fitted pieces over all strokes.
+    pub fn segment_count(&self) -> usize {
+        self.strokes.iter().map(|s| s.segments.len()).sum()
+    }
+
+    /// Strokes whose centre or radius misses the tolerance somewhere.
+    pub fn strokes_over(&self, tolerance: f64) -> usize {
+        self.strokes
+            .iter()
+            .filter(|s| s.centre_max > tolerance || s.radius_max > tolerance)
+            .count()
+    }
+}
+
+/// The thresholded mask without components (8-connected) or holes (4-connected, not
+/// touching the image border) smaller than `min_area` pixels.
+fn clean_mask(bitmap: &Bitmap, min_area: f64) -> Grid {
+    use imageproc::region_labelling::{connected_components, Connectivity};
+    let mut mask = bitmap.mask();
+    let (w, h) = (mask.width() as usize, mask.height() as usize);
+    // imageproc's labelling asserts on a one-pixel image, which has nothing to clean.
+    if w * h >= 2 {
+        // Pass 0 drops small shapes; pass 1 fills small holes (labelled on the inverse).
+        for pass in 0..2 {
+            let mut probe = mask.clone();
+            if pass == 1 {
+                for p in probe.pixels_mut() {
+                    p[0] = 255 - p[0];
+                }
+            }
+            let connectivity = [Connectivity::Eight, Connectivity::Four][pass];
+            let labels = connected_components(&probe, connectivity, image::Luma([0u8]));
+            let count = labels.pixels().map(|p| p[0]).max().unwrap_or(0) as usize;
+            let mut area = vec![0usize; count + 1];
+            let mut border = vec![false; count + 1];
+            for (x, y, p) in labels.enumerate_pixels() {
+                let l = p[0] as usize;
+                area[l] += 1;
+                border[l] |= x == 0 || y == 0 || x as usize + 1 == w || y as usize + 1 == h;
+            }
+            let value = [0u8, 255][pass];
+            for (x, y, p) in labels.enumerate_pixels() {
+                let l = p[0] as usize;
+                // Background touching the image border is paper, not a hole.
+                if l > 0 && (area[l] as f64) < min_area && (pass == 0 || !border[l]) {
+                    mask.put_pixel(x, y, image::Luma([value]));
+                }
+            }
+        }
+    }
+    Grid {
+        width: w,
+        height: h,
+        cells: mask.pixels().map(|p| p[0] > 0).collect(),
+    }
+}
+
+/// Moves every skeleton point to the stroke's centre and measures its radius.
+fn measure(graph: &mut Graph, index: &BoundaryIndex) {
+    let centre = |p: Point, tangent: Point| -> (Point, f64) {
+        let d = index.distance(p, 8.0).unwrap_or(0.5);
+        // The radius is the distance to the nearest boundary (the largest disk there),
+        // which at a cap or in a corner is not a side's.
+        index
+            .centre(p, tangent, 2.0 * d + 2.0)
+            .filter(|(c, _)| c.distance(p) <= d + 1.0)
+            .map(|(c, r)| (c, index.distance(c, r + 1.0).map_or(r, |n| n.min(r))))
+            .unwrap_or((p, d))
+    };
+    for node in &mut graph.nodes {
+        node.radius = index.distance(node.centre, 8.0).unwrap_or(0.5);
+    }
+    for e in &mut graph.edges {
+        let n = e.points.len();
+        let closed = e.ends.is_none();
+        let raw = e.points.clone();
+        for i in 0..n {
+            let k = 3;
+            let (a, b) = if closed {
+                (raw[(i + n - k % n) % n], raw[(i + k) % n])
+            } else {
+                (raw[i.saturating_sub(k)], raw[(i + k).min(n - 1)])
+            };
+            let t = (b - a).normalized().unwrap_or(Point::new(1.0, 0.0));
+            let (c, r) = centre(raw[i], t);
+            e.points[i] = c;
+            e.radii[i] = r;
+        }
+    }
+}
+
+/// Drops the points at the end of a run whose disk lies inside an earlier one (within
+/// `eps`): past the centre of a round cap.
+fn trim_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, eps: f64) {
+    while points.len() > 2 {
+        let (p, r) = (points[points.len() - 1], radii[radii.len() - 1]);
+        let look = (4.0 * r).ceil() as usize + 4;
+        let inside = points[..points.len() - 1]
+            .iter()
+            .zip(&radii[..radii.len() - 1])
+            .rev()
+            .take(look)
+            .any(|(q, rq)| q.distance(p) + r <= rq + eps);
+        if !inside {
+            break;
+        }
+        points.pop();
+        radii.pop();
+    }
+}
+
+/// Extends the end of a run to the centre of its cap: the point along the end's tangent
+/// where the boundary ahead is one radius away. Thinning erodes the ends of diagonal
+/// strokes by a few pixels; the boundary does not.
+fn extend_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, index: &BoundaryIndex) {
+    let n = points.len();
+    let (end, r) = (points[n - 1], radii[n - 1]);
+    let span = r.max(2.0);
+    let back = (0..n - 1)
+        .rev()
+        .find(|&k| points[k].distance(end) >= span)
+        .unwrap_or(0);
+    let Some(t) = (end - points[back]).normalized() else {
+        return;
+    };
+    let Some(ahead) = index.ray(end, t, 4.0 * r + 8.0) else {
+        return;
+    };
+    let extra = ahead - r;
+    if extra <= 0.25 {
+        return;
+    }
+    let steps = extra.ceil() as usize;
+    for k in 1..=steps {
+        points.push(end + t * (extra * k as f64 / steps as f64));
+        radii.push(r);
+    }
+}
+
+/// A stroke before fitting: its points, radii, and how it ends.
+struct RawStroke {
+    points: Vec<Point>,
+    radii: Vec<f64>,
+    closed: bool,
+    ends: [Option<usize>; 2],
+}
+
+/// Follows the pairings into strokes.
+fn assemble(
+    graph: &Graph,
+    link: &[[Option<EdgeEnd>; 2]],
+    index: &BoundaryIndex,
+    eps: f64,
+) -> Vec<RawStroke> {
+    let degree = graph.degrees();
+    let mut used = vec![false; graph.edges.len()];
+    let mut chains: Vec<(Vec<(usize, bool)>, bool)> = Vec::new();
+    // Open chains start at an end without a continuation.
+    for k in 0..graph.edges.len() {
+        for start_end in 0..2 {
+            let e = &graph.edges[k];
+            if used[k] || !e.alive || e.ends.is_none() || link[k][start_end].is_some() {
+                continue;
+            }
+            let mut chain = vec![(k, start_end == 0)];
+            used[k] = true;
+            let mut exit = (k, 1 - start_end);
+            while let Some((k2, e2)) = link[exit.0][exit.1] {
+                if used[k2] {
+                    break;
+                }
+                used[k2] = true;
+                chain.push((k2, e2 == 0));
+                exit = (k2, 1 - e2);
+            }
+            chains.push((chain, false));
+        }
+    }
+    // What is left is closed: loops, or cycles of pairings.
+    for k in 0..graph.edges.len() {
+        if used[k] || !graph.edges[k].alive {
+            continue;
+        }
+        used[k] = true;
+        let mut chain = vec![(k, true)];
+        let mut exit = (k, 1);
+        if graph.edges[k].ends.is_some() {
+            while let Some((k2, e2)) = link[exit.0][exit.1] {
+                if used[k2] {
+                    break;
+                }
+                used[k2] = true;
+                chain.push((k2, e2 == 0));
+                exit = (k2, 1 - e2);
+            }
+        }
+        chains.push((chain, true));
+    }
+    let node_at = |k: usize, forward: bool, last: bool| -> Option<usize> {
+        let ends = graph.edges[k].ends?;
+        Some(if forward == last { ends[1] } else { ends[0] })
+    };
+    let outside = |n: usize| {
+        let node = &graph.nodes[n];
+        move |p: &Point| p.distance(node.centre) > node.radius
+    };
+    let mut strokes = Vec::new();
+    for (chain, closed) in chains {
+        let mut points: Vec<Point> = Vec::new();
+        let mut radii: Vec<f64> = Vec::new();
+        for (idx, &(k, forward)) in chain.iter().enumerate() {
+            let e = &graph.edges[k];
+            let mut pr: Vec<(Point, f64)> = e.points.iter().copied().zip(e.radii.iter().copied()).collect();
+            if !forward {
+                pr.reverse();
+            }
+            if idx > 0 {
+                if let Some(n) = node_at(k, forward, false) {
+                    let keep = outside(n);
+                    while points.len() > 1 && !keep(&points[points.len() - 1]) {
+                        points.pop();
+                        radii.pop();
+                    }
+                    let skip = pr.iter().take_while(|(p, _)| !keep(p)).count();
+                    pr.drain(..skip.min(pr.len().saturating_sub(1)));
+                }
+            }
+            for (p, r) in pr {
+                points.push(p);
+                radii.push(r);
+            }
+        }
+        let (first, last) = (chain[0], chain[chain.len() - 1]);
+        let mut ends = [None, None];
+        if !closed || graph.edges[first.0].ends.is_some() {
+            let start_node = node_at(first.0, first.1, false);
+            let end_node = node_at(last.0, last.1, true);
+            for (side, node) in [(0, start_node), (1, end_node)] {
+                let Some(n) = node else { continue };
+                if degree[n] >= 3 {
+                    ends[side] = Some(n);
+                }
+            }
+        }
+        if closed {
+            // A cycle through a junction: drop the points inside it at both ends.
+            if let Some(n) = ends[0] {
+                let keep = outside(n);
+                while points.len() > 3 && !keep(&points[points.len() - 1]) {
+                    points.pop();
+                    radii.pop();
+                }
+                let skip = points.iter().take_while(|p| !keep(p)).count().min(points.len().saturating_sub(3));
+                points.drain(..skip);
+                radii.drain(..skip);
+            }
+            strokes.push(RawStroke { points, radii, closed, ends: [None, None] });
+            continue;
+        }
+        for side in 0..2 {
+            if side == 1 {
+                points.reverse();
+                radii.reverse();
+            }
+            match ends[side] {
+                Some(n) => {
+                    let keep = outside(n);
+                    let skip = points.iter().take_while(|p| !keep(p)).count().min(points.len().saturating_sub(1));
+                    let r = radii[skip];
+                    points.drain(..skip);
+                    radii.drain(..skip);
+                    points.insert(0, graph.nodes[n].centre);
+                    radii.insert(0, r);
+                }
+                None => {
+                    points.reverse();
+                    radii.reverse();
+                    trim_end(&mut points, &mut radii, eps);
+                    extend_end(&mut points, &mut radii, index);
+                    points.reverse();
+                    radii.reverse();
+                }
+            }
+            if side == 1 {
+                points.reverse();
+                radii.reverse();
+            }
+        }
+        strokes.push(RawStroke { points, radii, closed, ends });
+    }
+    for &n in &graph.dots {
+        let node = &graph.nodes[n];
+        strokes.push(RawStroke {
+            points: vec![node.centre],
+            radii: vec![node.radius],
+            closed: false,
+            ends: [None, None],
+        });
+    }
+    strokes
+}
+
+/// Traces the centre lines of `bitmap`'s strokes with `config`'s threshold, tolerance,
+/// corner angle, minimum area, check and timing settings.
+///
+/// Errors: [`crate::Error::NoForeground`] or [`crate::Error::AllBelowMinArea`] when there
+/// is nothing to trace; an invalid `config`.
+pub fn trace_centerline(
+    bitmap: &Bitmap,
+    config: &Config,
+    width: StrokeWidth,
+) -> Result<CenterlineResult> {
+    config.validate()?;
+    let started = Instant::now();
+    let extraction = contour::extract_borders(
+        bitmap,
+        &ContourOptions {
+            min_area: config.min_area,
+        },
+    )?;
+    if extraction.contours.is_empty() {
+        return Err(nothing_traced(bitmap, config.min_area));
+    }
+    let polygons: Vec<Vec<Point>> = extraction.contours.iter().map(|c| c.points.clone()).collect();
+    drop(extraction);
+    let index = BoundaryIndex::new(&polygons, bitmap.width(), bitmap.height());
+    let mut grid = clean_mask(bitmap, config.min_area);
+    let ink = grid.clone();
+    skeleton::thin(&mut grid);
+    let skeleton: Vec<Point> = (0..grid.cells.len())
+        .filter(|&i| grid.cells[i])
+        .map(|i| Point::new((i % grid.width) as f64 + 0.5, (i / grid.width) as f64 + 0.5))
+        .collect();
+    let mut graph = graph::build(&grid);
+    measure(&mut graph, &index);
+    let limit = (2.0 * config.tolerance).max(1.0);
+    let mut spurs = graph.prune_spurs(limit);
+    spurs += graph.absorb_corner_tips(limit);
+    graph.join_close_junctions();
+    spurs += graph.prune_spurs(limit);
+    graph.join_through_degree_two();
+    let link = graph::pair_at_junctions(&graph, PAIR_TURN_DEGREES.to_radians());
+    let raw = assemble(&graph, &link, &index, 0.5 * config.tolerance);
+    if std::env::var_os("OF_DEBUG").is_some() {
+        for (k, e) in graph.edges.iter().enumerate().filter(|(_, e)| e.alive) {
+            eprintln!("edge {k} ends {:?} n={} first {:?} last {:?}", e.ends, e.points.len(), e.points.first(), e.points.last());
+        }
+        for s in &raw {
+            eprintln!("stroke n={} closed={} first {:?} last {:?} ends {:?}", s.points.len(), s.closed, s.points.first(), s.points.last(), s.ends);
+        }
+    }
+    // Junctions that strokes end at or pass through, renumbered.
+    let degree = graph.degrees();
+    let mut junction_id = vec![usize::MAX; graph.nodes.len()];
+    let mut junctions = Vec::new();
+    for (n, node) in graph.nodes.iter().enumerate() {
+        if node.alive && degree[n] >= 3 {
+            junction_id[n] = junctions.len();
+            junctions.push(Junction {
+                centre: node.centre,
+                radius: node.radius,
+                branches: degree[n],
+            });
+        }
+    }
+    let opts = StrokeFitOptions {
+        tolerance: config.tolerance,
+        corner_angle: config.corner_angle.to_radians(),
+        constant_width: width == StrokeWidth::Constant,
+    };
+    let fit_one = |s: &RawStroke| -> Stroke {
+        let chain = fit_stroke(&s.points, &s.radii, s.closed, &opts);
+        let (mut lo, mut hi, mut length) = (f64::INFINITY, 0.0f64, 0.0);
+        for seg in &chain.segments {
+            let steps = 32;
+            let mut prev = seg.curve.center(0.0);
+            for i in 0..=steps {
+                let t = i as f64 / steps as f64;
+                let r = seg.curve.radius(t);
+                lo = lo.min(r);
+                hi = hi.max(r);
+                let p = seg.curve.center(t);
+                length += p.distance(prev);
+                prev = p;
+            }
+        }
+        let end = |e: Option<usize>| e.map_or(StrokeEnd::Free, |n| StrokeEnd::Junction(junction_id[n]));
+        Stroke {
+            closed: s.closed,
+            ends: [end(s.ends[0]), end(s.ends[1])],
+            length,
+            width_range: [2.0 * lo.max(0.0), 2.0 * hi.max(0.0)],
+            centre_max: chain.segments.iter().map(|g| g.centre_max).fold(0.0, f64::max),
+            centre_rms: chain.centre_rms,
+            radius_max: chain.segments.iter().map(|g| g.radius_max).fold(0.0, f64::max),
+            radius_rms: chain.radius_rms,
+            segments: chain.segments,
+            data: s.points.iter().copied().zip(s.radii.iter().copied()).collect(),
+        }
+    };
+    let strokes: Vec<Stroke> = {
+        use rayon::prelude::*;
+        if raw.len() > 16 {
+            raw.par_iter().map(fit_one).collect()
+        } else {
+            raw.iter().map(fit_one).collect()
+        }
+    };
+    let check = if config.check {
+        check::check(&strokes, &ink, config.tolerance, config.min_area.max(2.0))
+    } else {
+        StrokeCheck::default()
+    };
+    let total_ink: f64 = strokes.iter().map(Stroke::ink).sum();
+    let blob_ink: f64 = strokes.iter().filter(|s| !s.is_stroke_like()).map(Stroke::ink).sum();
+    let seconds = if config.timings {
+        started.elapsed().as_secs_f64()
+    } else {
+        0.0
+    };
+    Ok(CenterlineResult {
+        image: ImageInfo::of(bitmap),
+        stroke_width: width,
+        strokes,
+        junctions,
+        spurs_removed: spurs,
+        check,
+        not_stroke_like: blob_ink >= 0.25 * total_ink,
+        seconds,
+        skeleton,
+    })
+}
