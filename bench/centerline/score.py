@@ -70,7 +70,7 @@ def measure(strokes, truth, coverage):
     ours = np.array([p for s in strokes for p in s]) if any(strokes) else np.zeros((0, 3))
     true = np.array([p for s in truth["strokes"] for p in s])
     if len(ours) == 0:
-        return dict(centre=float("inf"), fwd=float("inf"), back=float("inf"), werr=float("inf"), iou=0.0)
+        return dict(centre=float("inf"), fwd=float("inf"), back=float("inf"), werr=float("inf"), wbias=0.0, iou=0.0)
     t_tree = cKDTree(true[:, :2])
     d_fwd, idx = t_tree.query(ours[:, :2])
     o_tree = cKDTree(ours[:, :2])
@@ -85,6 +85,7 @@ def measure(strokes, truth, coverage):
         fwd=float(d_fwd.mean()),
         back=float(d_back.mean()),
         werr=float(width.mean()),
+        wbias=float((2 * ours[:, 2] - 2 * true[idx, 2]).mean()),
         iou=float(inter / union) if union > 0 else 1.0,
     )
 
@@ -184,7 +185,7 @@ def summarize(rows, label):
             return
         mean = lambda k: statistics.fmean(r[k] for r in items)
         exact = sum(r["count_ok"] for r in items) / len(items)
-        print(f"| {label} | {name} | {len(items)} | {mean('centre'):.3f} | {mean('werr'):.3f} | "
+        print(f"| {label} | {name} | {len(items)} | {mean('centre'):.3f} | {mean('werr'):.3f} ({mean('wbias'):+.3f}) | "
               f"{100 * exact:.1f} % | {mean('iou'):.4f} | {min(r['iou'] for r in items):.4f} |")
     group("anti-aliased, width >= 3", lambda r: r["kind"] == "aa" and r["width"] >= 3)
     group("anti-aliased, width 1.5-2", lambda r: r["kind"] == "aa" and r["width"] < 3)
@@ -266,7 +267,7 @@ def main():
         base_rows.append(dict(mb, kind=truth["kind"], width=truth["width"], n=len(bs),
                               count_ok=len(bs) == truth["count"]))
     print(f"{len(ours_rows)} items in {args.set}\n")
-    print("| tracer | items | n | centre px | width px | count exact | IoU mean | IoU min |")
+    print("| tracer | items | n | centre px | width px (bias) | count exact | IoU mean | IoU min |")
     print("|---|---|---|---|---|---|---|---|")
     summarize(ours_rows, "outlinefit")
     summarize(base_rows, "skeletonize + DP")

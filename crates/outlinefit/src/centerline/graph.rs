@@ -217,9 +217,9 @@ impl Graph {
         removed
     }
 
-    /// Joins two junctions whose centres are closer than the sum of their radii (their
-    /// disks overlap): thinning splits a crossing of two strokes into two forks joined by
-    /// a short edge.
+    /// Joins two junctions whose centres are closer than the sum of their radii plus two
+    /// pixels (their disks overlap, up to the skeleton's pixel steps): thinning splits a
+    /// crossing of two strokes into two forks joined by a short edge.
     pub(crate) fn join_close_junctions(&mut self) {
         loop {
             let degree = self.degrees();
@@ -230,7 +230,7 @@ impl Graph {
                     && a != b
                     && degree[a] >= 3
                     && degree[b] >= 3
-                    && na.centre.distance(nb.centre) <= na.radius + nb.radius
+                    && na.centre.distance(nb.centre) <= na.radius + nb.radius + 2.0
             });
             let Some(k) = found else { break };
             let [a, b] = self.edges[k].ends.unwrap_or([0, 0]);
@@ -314,7 +314,7 @@ impl Graph {
     }
 
     /// Where edge `k` leaves its node at end `end` (0 or 1), and in which direction: from
-    /// where it leaves the node's disk to a point `max(4, 3 r)` px further along.
+    /// where it leaves the node's disk to a point `max(8, 3 r)` px further along.
     fn leaving(&self, k: usize, end: usize) -> (Point, Point) {
         let node = &self.nodes[self.edges[k].ends.map_or(0, |e| e[end])];
         let pts = &self.edges[k].points;
@@ -327,7 +327,7 @@ impl Graph {
             .iter()
             .position(|p| p.distance(node.centre) > node.radius)
             .unwrap_or(ordered.len() - 1);
-        let span = (3.0 * node.radius).max(4.0);
+        let span = (3.0 * node.radius).max(8.0);
         let mut s = 0.0;
         let mut to = from;
         while to + 1 < ordered.len() && s < span {
@@ -344,7 +344,7 @@ impl Graph {
     /// Finds the tips of sharp corners: thinning turns the corner of a V into a junction
     /// with a short branch to the tip. A junction of three branches is a corner when one
     /// branch ends freely and every point of it outside the junction's disk lies, with
-    /// its disk, within the two other branches continued straight to where their lines
+    /// its disk, within the strokes of the two other branches continued straight to where their lines
     /// meet (the corner point), up to `tolerance`. That branch is removed and the junction
     /// becomes the corner of one stroke. Returns how many were found.
     pub(crate) fn absorb_corner_tips(&mut self, tolerance: f64) -> usize {
@@ -401,12 +401,18 @@ impl Graph {
                 };
                 let node = &self.nodes[n];
                 let spur = &self.edges[ks];
+                // A disk lies within the arms' strokes when its circle does (sampled).
+                let within = |q: Point| {
+                    crate::geom::segment_distance(q, pa, x)
+                        .min(crate::geom::segment_distance(q, x, pb))
+                        <= arm_radius + tolerance
+                };
                 let covered = spur.points.iter().zip(&spur.radii).all(|(p, r)| {
-                    p.distance(node.centre) <= node.radius || {
-                        let d = crate::geom::segment_distance(*p, pa, x)
-                            .min(crate::geom::segment_distance(*p, x, pb));
-                        d + r <= arm_radius + tolerance
-                    }
+                    p.distance(node.centre) <= node.radius
+                        || (0..16).all(|k| {
+                            let a = k as f64 * std::f64::consts::PI / 8.0;
+                            within(*p + Point::new(a.cos(), a.sin()) * *r)
+                        })
                 });
                 if std::env::var_os("OF_DEBUG").is_some() {
                     eprintln!("tip? node {n} at {:?} r {} x {x:?} arm_r {arm_radius} covered {covered}", node.centre, node.radius);

@@ -1,4 +1,5 @@
-//! A one-pixel-wide skeleton of the thresholded foreground: Zhang–Suen thinning, then the
+//! A one-pixel-wide skeleton of the thresholded foreground: Zhang–Suen thinning (with Lü
+//! and Wang's correction for diagonal lines), then the
 //! staircase pixels that 8-connectivity does not need are removed, so that every skeleton
 //! pixel with three or more skeleton neighbours is a true branch point.
 //!
@@ -84,11 +85,13 @@ pub(crate) fn thin(grid: &mut Grid) {
     }
 }
 
-/// Zhang–Suen's test for the sub-iteration `pass` (0 or 1): a border pixel with 2–6
-/// neighbours, one 0→1 transition around it, and the pass's two products zero.
+/// Zhang–Suen's test for the sub-iteration `pass` (0 or 1): a border pixel with 3–6
+/// neighbours, one 0→1 transition around it, and the pass's two products zero. Zhang and
+/// Suen allow 2 neighbours; Lü and Wang's correction (3) keeps lines two pixels thick on a
+/// diagonal, which the original erases entirely.
 fn zhang_suen_removes(r: &[bool; 8], pass: usize) -> bool {
     let b = r.iter().filter(|&&v| v).count();
-    if !(2..=6).contains(&b) {
+    if !(3..=6).contains(&b) {
         return false;
     }
     let transitions = (0..8).filter(|&k| !r[k] && r[(k + 1) % 8]).count();
