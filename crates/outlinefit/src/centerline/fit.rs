@@ -22,6 +22,17 @@ use serde::Serialize;
 /// Fewest data points of a piece made by a split.
 const MIN_PIECE: usize = 4;
 
+/// The centre curve's fit: a polynomial cubic with parameter correction by projection and
+/// no orthogonal polish. The skeleton's centres are noisier than the polish's gain (a few
+/// thousandths of a pixel on outlines), and the polish was half of the trace's time.
+pub(crate) fn centre_settings() -> FitSettings {
+    FitSettings {
+        polish_iterations: 0,
+        reparam_rounds: 4,
+        ..FitSettings::polynomial()
+    }
+}
+
 /// How a stroke is fitted.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct StrokeFitOptions {
@@ -274,7 +285,7 @@ pub(crate) fn fit_stroke(
         let run_r = &rad[a.index..=b.index];
         let start = a.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
         let end = b.tangent.map_or(EndCondition::Free, EndCondition::Tangent);
-        let mut sol = fit_segment(run, start, end, &FitSettings::polynomial());
+        let mut sol = fit_segment(run, start, end, &centre_settings());
         let mut err = segment_error(&sol.curve, run, &sol.params);
         // A curve that loops out between two points is as far off as its loop.
         err.max_distance = err.max_distance.max(drawn_residual(run, &sol));

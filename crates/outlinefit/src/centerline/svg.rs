@@ -12,7 +12,8 @@ use super::{CenterlineResult, Stroke, StrokeWidth};
 use crate::curve::wang_ball::envelope_points;
 use crate::export::overlay::png_base64;
 use crate::export::svg::pixel_document;
-use crate::fit::solve::{fit_segment, segment_error, EndCondition, FitSettings};
+use super::fit::centre_settings;
+use crate::fit::solve::{fit_segment, segment_error, EndCondition};
 use crate::geom::{signed_area, Point};
 use crate::svg_writer::{comment, number, push_point, Circle, Group, Image, Path};
 
@@ -83,7 +84,7 @@ fn circle(c: Point, r: f64, positive: bool, out: &mut PathText) {
 /// where one cubic misses; a polyline where the points are too few to split.
 fn side_cubics(points: &[Point], bound: f64, depth: usize, out: &mut PathText) {
     if points.len() >= 4 {
-        let sol = fit_segment(points, EndCondition::Free, EndCondition::Free, &FitSettings::polynomial());
+        let sol = fit_segment(points, EndCondition::Free, EndCondition::Free, &centre_settings());
         let err = segment_error(&sol.curve, points, &sol.params);
         if err.max_distance <= bound || depth >= 4 || points.len() < 9 {
             if err.max_distance <= bound {
