@@ -306,6 +306,47 @@ fn logo(dir: &Path) -> Res<()> {
     save_rgba(&dir.join("logo.png"), w, h, &rgba)
 }
 
+/// Line art for `--mode centerline`: a pen-drawn S-curve, a cross with a curved tail
+/// (a "t"), a closed loop, and a brush stroke that tapers from 9 px to 2 px (drawn as
+/// disks along its centre line, since a stroke of varying width is a union of disks).
+fn sketch(dir: &Path) -> Res<()> {
+    let (w, h) = (320, 170);
+    let paint = black_paint();
+    let pen = Stroke {
+        width: 5.0,
+        line_cap: LineCap::Round,
+        line_join: resvg::tiny_skia::LineJoin::Round,
+        ..Stroke::default()
+    };
+    let mut pm = pixmap(w, h)?;
+    let mut pb = PathBuilder::new();
+    pb.move_to(20.0, 130.0);
+    pb.cubic_to(120.0, 150.0, -20.0, 20.0, 80.0, 35.0);
+    // The "t": a stem with a curved foot, crossed by a bar.
+    pb.move_to(130.0, 25.0);
+    pb.line_to(130.0, 120.0);
+    pb.cubic_to(130.0, 140.0, 145.0, 145.0, 160.0, 135.0);
+    pb.move_to(110.0, 60.0);
+    pb.line_to(155.0, 60.0);
+    pb.push_circle(215.0, 60.0, 30.0);
+    let path = pb.finish().ok_or("empty sketch path")?;
+    pm.stroke_path(&path, &paint, &pen, Transform::identity(), None);
+    // The brush stroke: disks every quarter pixel along a cubic, radius 4.5 → 1.
+    let mut brush = PathBuilder::new();
+    let (p0, p1, p2, p3) = ((190.0, 150.0), (230.0, 100.0), (270.0, 170.0), (305.0, 110.0));
+    let steps = 800;
+    for k in 0..=steps {
+        let t = k as f32 / steps as f32;
+        let m = 1.0 - t;
+        let x = m * m * m * p0.0 + 3.0 * m * m * t * p1.0 + 3.0 * m * t * t * p2.0 + t * t * t * p3.0;
+        let y = m * m * m * p0.1 + 3.0 * m * m * t * p1.1 + 3.0 * m * t * t * p2.1 + t * t * t * p3.1;
+        brush.push_circle(x, y, 4.5 - 3.5 * t);
+    }
+    let brush = brush.finish().ok_or("empty brush path")?;
+    pm.fill_path(&brush, &paint, FillRule::Winding, Transform::identity(), None);
+    save_gray(&dir.join("sketch.png"), w, h, &alpha_to_gray(&pm))
+}
+
 fn main() -> Res<()> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
     std::fs::create_dir_all(&dir)?;
@@ -318,5 +359,6 @@ fn main() -> Res<()> {
     aeroplane(&dir)?;
     pear(&dir)?;
     logo(&dir)?;
+    sketch(&dir)?;
     Ok(())
 }

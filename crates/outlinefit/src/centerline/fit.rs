@@ -53,9 +53,6 @@ pub struct StrokeSegment {
     /// The centre curve in Bézier form (what the SVG draws).
     #[serde(skip)]
     pub(crate) bezier: [Point; 4],
-    /// The radius function's Bernstein coefficients.
-    #[serde(skip)]
-    pub(crate) radius_bezier: [f64; 4],
     /// Data points fitted (both ends included).
     pub point_count: usize,
     /// Largest distance from a skeleton centre to the centre curve, px.
@@ -137,7 +134,7 @@ fn tangent_at(points: &[Point], s: &[f64], i: usize, w: f64) -> Point {
     let mean = |range: &mut dyn Iterator<Item = usize>| {
         let (mut sum, mut k) = (Point::new(0.0, 0.0), 0.0);
         for j in range {
-            sum = sum + points[j];
+            sum += points[j];
             k += 1.0;
         }
         (k > 0.0).then(|| sum * (1.0 / k))
@@ -308,7 +305,7 @@ pub(crate) fn fit_stroke(
         }
         let misses = err.max_distance > opts.tolerance
             || (constant.is_none() && radius_max > opts.tolerance);
-        if misses && run.len() >= 2 * MIN_PIECE + 1 {
+        if misses && run.len() > 2 * MIN_PIECE {
             // Split at the worst centre point (or the worst radius), kept away from the ends.
             let worst = if err.max_distance > opts.tolerance {
                 worst_point(&sol.curve, run, &sol.params)
@@ -346,7 +343,6 @@ pub(crate) fn fit_stroke(
         segments.push(StrokeSegment {
             curve: DiskWangBall::new(disks),
             bezier,
-            radius_bezier: radius,
             point_count: run.len(),
             centre_max: err.max_distance,
             radius_max,
@@ -411,7 +407,6 @@ fn single_disk(p: Point, r: f64) -> FittedChain {
         segments: vec![StrokeSegment {
             curve: DiskWangBall::new(vec![Disk::new(p, r); 4]),
             bezier: [p; 4],
-            radius_bezier: [r; 4],
             point_count: 1,
             centre_max: 0.0,
             radius_max: 0.0,

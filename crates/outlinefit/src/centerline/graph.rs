@@ -64,7 +64,7 @@ pub(crate) fn build(grid: &Grid) -> Graph {
         node_of[start] = id;
         let (mut sum, mut count) = (Point::new(0.0, 0.0), 0.0);
         while let Some(i) = stack.pop() {
-            sum = sum + centre_of(i, w);
+            sum += centre_of(i, w);
             count += 1.0;
             let (x, y) = at(i);
             for (dx, dy) in RING {
@@ -414,13 +414,6 @@ impl Graph {
                             within(*p + Point::new(a.cos(), a.sin()) * *r)
                         })
                 });
-                if std::env::var_os("OF_DEBUG").is_some() {
-                    eprintln!("tip? node {n} at {:?} r {} x {x:?} arm_r {arm_radius} covered {covered}", node.centre, node.radius);
-                    for (p, r) in spur.points.iter().zip(&spur.radii) {
-                        let d = crate::geom::segment_distance(*p, pa, x).min(crate::geom::segment_distance(*p, x, pb));
-                        eprintln!("   p {p:?} r {r} d {d} in {}", p.distance(node.centre) <= node.radius);
-                    }
-                }
                 if covered {
                     self.edges[ks].alive = false;
                     self.nodes[ends[1 - es]].alive = false;

@@ -146,7 +146,7 @@ impl BoundaryIndex {
                 return radius.map(|r| (c, r)).or(None);
             }
             let step = ((l - r) / 2.0).clamp(-1.0, 1.0);
-            c = c + n * step;
+            c += n * step;
             radius = Some((l + r) / 2.0);
             if step.abs() < 1e-3 {
                 break;

@@ -514,14 +514,6 @@ pub fn trace_centerline(
     graph.join_through_degree_two();
     let link = graph::pair_at_junctions(&graph, PAIR_TURN_DEGREES.to_radians());
     let raw = assemble(&graph, &link, &index, 0.5 * config.tolerance);
-    if std::env::var_os("OF_DEBUG").is_some() {
-        for (k, e) in graph.edges.iter().enumerate().filter(|(_, e)| e.alive) {
-            eprintln!("edge {k} ends {:?} n={} first {:?} last {:?}", e.ends, e.points.len(), e.points.first(), e.points.last());
-        }
-        for s in &raw {
-            eprintln!("stroke n={} closed={} first {:?} last {:?} ends {:?}", s.points.len(), s.closed, s.points.first(), s.points.last(), s.ends);
-        }
-    }
     // Junctions that strokes end at or pass through, renumbered.
     let degree = graph.degrees();
     let mut junction_id = vec![usize::MAX; graph.nodes.len()];

@@ -99,10 +99,11 @@ fn zhang_suen_removes(r: &[bool; 8], pass: usize) -> bool {
         return false;
     }
     let (n, e, s, w) = (r[0], r[2], r[4], r[6]);
+    // Pass 0: N·E·S = 0 and E·S·W = 0; pass 1: N·E·W = 0 and N·S·W = 0.
     if pass == 0 {
-        !(n && e && s) && !(e && s && w)
+        !(e && s && (n || w))
     } else {
-        !(n && e && w) && !(n && s && w)
+        !(n && w && (e || s))
     }
 }
 

@@ -203,8 +203,9 @@ pub fn centerline_svg(result: &CenterlineResult) -> String {
     doc.finish()
 }
 
-/// A diagnostic picture: the input, the skeleton (grey), the centre lines (blue), the
-/// disks at every joint (green), junctions (red) and free ends (orange).
+/// A diagnostic picture: the input, the thinned skeleton's pixels (grey), the measured
+/// centres that were fitted (small orange dots), the centre lines (blue), the disks at
+/// every joint (green circles), junctions (red) and free ends (orange).
 pub fn centerline_overlay_svg(
     result: &CenterlineResult,
     background: Option<&image::GrayImage>,
@@ -231,18 +232,31 @@ pub fn centerline_overlay_svg(
             Err(e) => doc.add(comment(&format!("background image left out: {e}"))),
         }
     }
-    let mut skeleton = PathText(String::new());
-    for &p in &result.skeleton {
-        skeleton.cmd('M', &[p]);
-        skeleton.0.push_str("h0");
-    }
+    let dots = |points: &mut dyn Iterator<Item = Point>| {
+        let mut path = PathText(String::new());
+        for p in points {
+            path.cmd('M', &[p]);
+            path.0.push_str("h0");
+        }
+        path.0
+    };
+    let skeleton = dots(&mut result.skeleton.iter().copied());
+    let measured = dots(&mut result.strokes.iter().flat_map(|s| s.data.iter().map(|d| d.0)));
     doc.add(
         Path::new()
             .set("id", "skeleton")
-            .set("d", skeleton.0)
+            .set("d", skeleton)
             .set("stroke", "#909090")
             .set("stroke-width", size(0.6))
             .set("stroke-linecap", "square"),
+    );
+    doc.add(
+        Path::new()
+            .set("id", "measured-centres")
+            .set("d", measured)
+            .set("stroke", "#ff7f0e")
+            .set("stroke-width", size(2.0 * unit))
+            .set("stroke-linecap", "round"),
     );
     let mut disks = Group::new()
         .set("id", "disks")
