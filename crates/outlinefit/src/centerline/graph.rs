@@ -315,7 +315,7 @@ impl Graph {
 
     /// Where edge `k` leaves its node at end `end` (0 or 1), and in which direction: from
     /// where it leaves the node's disk to a point `max(8, 3 r)` px further along.
-    fn leaving(&self, k: usize, end: usize) -> (Point, Point) {
+    pub(crate) fn leaving(&self, k: usize, end: usize) -> (Point, Point) {
         let node = &self.nodes[self.edges[k].ends.map_or(0, |e| e[end])];
         let pts = &self.edges[k].points;
         let ordered: Vec<Point> = if end == 0 {

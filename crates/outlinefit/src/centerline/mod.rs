@@ -282,31 +282,132 @@ fn trim_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, eps: f64) {
     }
 }
 
-/// Extends the end of a run to the centre of its cap: the point along the end's tangent
-/// where the boundary ahead is one radius away. Thinning erodes the ends of diagonal
-/// strokes by a few pixels; the boundary does not.
+/// Rebuilds the end of a run up to the centre of its cap. The last centres are the least
+/// sure (thinning erodes and bends the ends of strokes, and near the cap the two sides
+/// are the cap itself), so they are replaced: from a point `max(2 r, 3)` px before the
+/// end, the run follows the quadratic (in arc length) that fits the `max(6 r, 16)` px
+/// before that point, its radius the line that fits their radii, to where the boundary
+/// ahead along it is one radius away.
 fn extend_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, index: &BoundaryIndex) {
     let n = points.len();
-    let (end, r) = (points[n - 1], radii[n - 1]);
-    let span = r.max(2.0);
-    let back = (0..n - 1)
-        .rev()
-        .find(|&k| points[k].distance(end) >= span)
-        .unwrap_or(0);
-    let Some(t) = (end - points[back]).normalized() else {
-        return;
+    let span = (2.0 * radii[n - 1]).max(3.0);
+    let back_from = |from: usize, length: f64| {
+        (0..from)
+            .rev()
+            .find(|&k| points[k].distance(points[from]) >= length)
     };
-    let Some(ahead) = index.ray(end, t, 4.0 * r + 8.0) else {
-        return;
+    let window = (6.0 * radii[n - 1]).max(16.0);
+    let (b, b2) = match back_from(n - 1, span).and_then(|b| Some((b, back_from(b, window)?))) {
+        Some(pair) => pair,
+        None => (n - 1, back_from(n - 1, window).unwrap_or(0)),
     };
-    let extra = ahead - r;
-    if extra <= 0.25 {
+    if b2 >= b {
         return;
     }
-    let steps = extra.ceil() as usize;
-    for k in 1..=steps {
-        points.push(end + t * (extra * k as f64 / steps as f64));
+    let (pb, rb) = (points[b], radii[b]);
+    // p(s) = pb + v s + a s² / 2 through the points b2..b (s ≤ 0 their arc length from b).
+    let (mut m11, mut m12, mut m22) = (0.0, 0.0, 0.0);
+    let (mut r1, mut r2) = (Point::new(0.0, 0.0), Point::new(0.0, 0.0));
+    // The radius goes on changing as it did: the line that fits the window's radii.
+    let (mut sn, mut s1, mut s2, mut sr, mut ssr) = (1.0, 0.0, 0.0, rb, 0.0);
+    let mut s = 0.0;
+    for k in (b2..b).rev() {
+        s -= points[k].distance(points[k + 1]);
+        sn += 1.0;
+        s1 += s;
+        s2 += s * s;
+        sr += radii[k];
+        ssr += s * radii[k];
+        let (f1, f2) = (s, 0.5 * s * s);
+        m11 += f1 * f1;
+        m12 += f1 * f2;
+        m22 += f2 * f2;
+        r1 += (points[k] - pb) * f1;
+        r2 += (points[k] - pb) * f2;
+    }
+    let det = m11 * m22 - m12 * m12;
+    let quadratic = (b - b2 >= 3 && det.abs() > 1e-12).then(|| {
+        (
+            (r1 * m22 - r2 * m12) * (1.0 / det),
+            (r2 * m11 - r1 * m12) * (1.0 / det),
+        )
+    });
+    // The bend is kept only where it is larger than the centres' noise: a sagitta over
+    // the window above 0.1 px. Extrapolated, the noise's bend would move a straight
+    // stroke's end sideways.
+    let (v, a) = match quadratic {
+        Some((v, a)) if a.length() * s * s / 8.0 > 0.1 => (v, a),
+        _ if m11 > 0.0 => (r1 * (1.0 / m11), Point::new(0.0, 0.0)),
+        _ => return,
+    };
+    let Some(_) = v.normalized() else { return };
+    let speed = v.length();
+    // Its slope counts where it changes the radius by more than 0.2 px over the window
+    // (a taper; within ±0.15); otherwise the window's mean radius goes on.
+    let det_r = sn * s2 - s1 * s1;
+    let slope = if det_r > 1e-12 { ((sn * ssr - s1 * sr) / det_r).clamp(-0.15, 0.15) } else { 0.0 };
+    let (rb, slope) = if slope.abs() * s.abs() > 0.2 {
+        ((sr - slope * s1) / sn, slope)
+    } else {
+        (sr / sn, 0.0)
+    };
+    let at = |s: f64| pb + v * s + a * (0.5 * s * s);
+    let limit = 2.0 * span + 4.0 * rb + 8.0;
+    let mut extension = Vec::new();
+    let mut t = 0.0;
+    while t < limit {
+        let next = t + 0.5 / speed;
+        let q = at(next);
+        let r = (rb + slope * next * speed).max(0.0);
+        let Some(dir) = (v + a * next).normalized() else { break };
+        match index.ray(q, dir, limit) {
+            Some(ahead) if ahead > r => {
+                extension.push((q, r));
+                t = next;
+            }
+            _ => break,
+        }
+    }
+    if extension.is_empty() {
+        return;
+    }
+    points.truncate(b + 1);
+    radii.truncate(b + 1);
+    for (q, r) in extension {
+        points.push(q);
         radii.push(r);
+    }
+}
+
+/// Where a branch that stops at junction `n` ends: where its own line (its first points
+/// outside the junction's disk, `points` running away from the junction) meets the line of
+/// the stroke that passes through the junction, as a "T"'s stem ends on the bar's centre
+/// line. The junction's centre when no stroke passes through or the lines meet far from
+/// it.
+fn branch_end(graph: &Graph, through: &Option<(Point, Point)>, n: usize, points: &[Point]) -> Point {
+    let node = &graph.nodes[n];
+    let (Some((a, b)), Some(&c)) = (through, points.first()) else {
+        return node.centre;
+    };
+    let span = node.radius.max(4.0);
+    let far = points
+        .iter()
+        .find(|p| p.distance(c) >= span)
+        .copied()
+        .unwrap_or(points[points.len() - 1]);
+    let (Some(d), ab) = ((c - far).normalized(), *b - *a) else {
+        return node.centre;
+    };
+    let den = d.cross(ab);
+    if den.abs() < 1e-9 {
+        return node.centre;
+    }
+    let s = (*a - c).cross(ab) / den;
+    let e = c + d * s;
+    if s >= 0.0 && e.distance(node.centre) <= node.radius + 1.0 {
+        e
+    } else {
+        node.centre
     }
 }
 
@@ -368,6 +469,20 @@ fn assemble(
             }
         }
         chains.push((chain, true));
+    }
+    // The line a stroke passing through each junction takes across it: from where its
+    // one branch leaves the junction's disk to where the other does.
+    let mut through: Vec<Option<(Point, Point)>> = vec![None; graph.nodes.len()];
+    for (k, ends) in link.iter().enumerate() {
+        for (e, other) in ends.iter().enumerate() {
+            let (Some((k2, e2)), Some(nodes)) = (other, graph.edges[k].ends) else {
+                continue;
+            };
+            let n = nodes[e];
+            if through[n].is_none() && (k, e) != (*k2, *e2) {
+                through[n] = Some((graph.leaving(k, e).0, graph.leaving(*k2, *e2).0));
+            }
+        }
     }
     let node_at = |k: usize, forward: bool, last: bool| -> Option<usize> {
         let ends = graph.edges[k].ends?;
@@ -442,7 +557,8 @@ fn assemble(
                     let r = radii[skip];
                     points.drain(..skip);
                     radii.drain(..skip);
-                    points.insert(0, graph.nodes[n].centre);
+                    let end = branch_end(graph, &through[n], n, &points);
+                    points.insert(0, end);
                     radii.insert(0, r);
                 }
                 None => {

@@ -62,9 +62,26 @@ pub(crate) fn thin(grid: &mut Grid) {
                     }
                 }
             }
-            changed |= !remove.is_empty();
+            // Zhang–Suen removes the four pixels of a 2 × 2 block together (what a disk
+            // thins to), and the shape with them: the block's top-left pixel stays.
+            let marked = |grid: &Grid, i: usize| remove.binary_search(&i).is_ok() && grid.cells[i];
+            let keep: Vec<usize> = remove
+                .iter()
+                .copied()
+                .filter(|&i| {
+                    let (x, y) = (i % grid.width, i / grid.width);
+                    x + 1 < grid.width
+                        && y + 1 < grid.height
+                        && marked(grid, i + 1)
+                        && marked(grid, i + grid.width)
+                        && marked(grid, i + grid.width + 1)
+                })
+                .collect();
             for &i in &remove {
-                grid.cells[i] = false;
+                if keep.binary_search(&i).is_err() {
+                    grid.cells[i] = false;
+                    changed = true;
+                }
             }
         }
         if !changed {
@@ -174,6 +191,10 @@ mod tests {
         thin(&mut g);
         let n = g.cells.iter().filter(|&&b| b).count();
         assert_eq!(n, 3);
+        // A 2 × 2 block keeps a pixel.
+        let mut g = grid_from(&["....", ".##.", ".##.", "...."]);
+        thin(&mut g);
+        assert!(g.cells.iter().any(|&b| b));
         assert_eq!(components(&[true, false, false, false, false, false, false, false]), 1);
         assert_eq!(components(&[true, false, false, false, true, false, false, false]), 2);
         assert_eq!(components(&[true, false, true, false, false, false, false, false]), 1);
