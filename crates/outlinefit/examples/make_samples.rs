@@ -333,17 +333,30 @@ fn sketch(dir: &Path) -> Res<()> {
     pm.stroke_path(&path, &paint, &pen, Transform::identity(), None);
     // The brush stroke: disks every quarter pixel along a cubic, radius 4.5 → 1.
     let mut brush = PathBuilder::new();
-    let (p0, p1, p2, p3) = ((190.0, 150.0), (230.0, 100.0), (270.0, 170.0), (305.0, 110.0));
+    let (p0, p1, p2, p3) = (
+        (190.0, 150.0),
+        (230.0, 100.0),
+        (270.0, 170.0),
+        (305.0, 110.0),
+    );
     let steps = 800;
     for k in 0..=steps {
         let t = k as f32 / steps as f32;
         let m = 1.0 - t;
-        let x = m * m * m * p0.0 + 3.0 * m * m * t * p1.0 + 3.0 * m * t * t * p2.0 + t * t * t * p3.0;
-        let y = m * m * m * p0.1 + 3.0 * m * m * t * p1.1 + 3.0 * m * t * t * p2.1 + t * t * t * p3.1;
+        let x =
+            m * m * m * p0.0 + 3.0 * m * m * t * p1.0 + 3.0 * m * t * t * p2.0 + t * t * t * p3.0;
+        let y =
+            m * m * m * p0.1 + 3.0 * m * m * t * p1.1 + 3.0 * m * t * t * p2.1 + t * t * t * p3.1;
         brush.push_circle(x, y, 4.5 - 3.5 * t);
     }
     let brush = brush.finish().ok_or("empty brush path")?;
-    pm.fill_path(&brush, &paint, FillRule::Winding, Transform::identity(), None);
+    pm.fill_path(
+        &brush,
+        &paint,
+        FillRule::Winding,
+        Transform::identity(),
+        None,
+    );
     save_gray(&dir.join("sketch.png"), w, h, &alpha_to_gray(&pm))
 }
 

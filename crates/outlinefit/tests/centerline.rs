@@ -81,7 +81,12 @@ fn polyline(n: usize, f: impl Fn(f64) -> (Point, f64)) -> Truth {
 }
 
 fn trace(w: usize, h: usize, truths: &[Truth], width: StrokeWidth) -> CenterlineResult {
-    let sdf = |p: Point| truths.iter().map(|t| t.sdf(p)).fold(f64::INFINITY, f64::min);
+    let sdf = |p: Point| {
+        truths
+            .iter()
+            .map(|t| t.sdf(p))
+            .fold(f64::INFINITY, f64::min)
+    };
     let cov = coverage(w, h, &sdf);
     let bitmap = Bitmap::from_coverage(w as u32, h as u32, cov, None).unwrap();
     // The fit keeps the centre within the tolerance of the measured centres; 0.2 px
@@ -97,7 +102,12 @@ fn trace(w: usize, h: usize, truths: &[Truth], width: StrokeWidth) -> Centerline
 /// The largest centre distance and width error over the traced strokes (sampled), the
 /// truth being the nearest of `truths`; samples within `skip` px of any point of `away`
 /// (junctions) are left out of the width error.
-fn errors(result: &CenterlineResult, truths: &[Truth], away: &[Point], skip: f64) -> (f64, f64, f64) {
+fn errors(
+    result: &CenterlineResult,
+    truths: &[Truth],
+    away: &[Point],
+    skip: f64,
+) -> (f64, f64, f64) {
     let (mut centre_max, mut width_max, mut sum, mut n) = (0.0f64, 0.0f64, 0.0, 0.0);
     for stroke in &result.strokes {
         for seg in &stroke.segments {
@@ -125,13 +135,19 @@ fn a_tapered_arc_is_one_stroke_with_its_width() {
     // Centre on a circle of radius 60 about (80, 80), from 200° to 340°, width 8 → 3.
     let arc = polyline(400, |t| {
         let a = (200.0 + 140.0 * t).to_radians();
-        (Point::new(80.0 + 60.0 * a.cos(), 80.0 + 60.0 * a.sin()), 4.0 - 2.5 * t)
+        (
+            Point::new(80.0 + 60.0 * a.cos(), 80.0 + 60.0 * a.sin()),
+            4.0 - 2.5 * t,
+        )
     });
     let result = trace(160, 100, std::slice::from_ref(&arc), StrokeWidth::Variable);
     assert_eq!(result.strokes.len(), 1);
     assert!(result.junctions.is_empty());
     let (centre_max, centre_mean, width_max) = errors(&result, &[arc], &[], 0.0);
-    assert!(centre_max <= 0.25 && centre_mean <= 0.1, "{centre_max} {centre_mean}");
+    assert!(
+        centre_max <= 0.25 && centre_mean <= 0.1,
+        "{centre_max} {centre_mean}"
+    );
     assert!(width_max <= 0.3, "width off by {width_max}");
     let s = &result.strokes[0];
     assert!((s.width_range[1] - 8.0).abs() < 0.3 && (s.width_range[0] - 3.0).abs() < 0.3);
@@ -152,8 +168,12 @@ fn a_constant_width_s_is_one_stroke_of_one_width() {
     for width in [StrokeWidth::Variable, StrokeWidth::Constant] {
         let result = trace(140, 140, std::slice::from_ref(&s), width);
         assert_eq!(result.strokes.len(), 1, "{width:?}");
-        let (centre_max, centre_mean, width_max) = errors(&result, std::slice::from_ref(&s), &[], 0.0);
-        assert!(centre_max <= 0.25 && centre_mean <= 0.1, "{width:?}: {centre_max} {centre_mean}");
+        let (centre_max, centre_mean, width_max) =
+            errors(&result, std::slice::from_ref(&s), &[], 0.0);
+        assert!(
+            centre_max <= 0.25 && centre_mean <= 0.1,
+            "{width:?}: {centre_max} {centre_mean}"
+        );
         assert!(width_max <= 0.3, "{width:?}: width off by {width_max}");
         let range = result.strokes[0].width_range;
         if width == StrokeWidth::Constant {
@@ -164,8 +184,12 @@ fn a_constant_width_s_is_one_stroke_of_one_width() {
 
 #[test]
 fn an_x_is_two_strokes_through_one_junction() {
-    let a = polyline(200, |t| (Point::new(20.0 + 100.0 * t, 20.0 + 80.0 * t), 2.5));
-    let b = polyline(200, |t| (Point::new(20.0 + 100.0 * t, 100.0 - 80.0 * t), 2.5));
+    let a = polyline(200, |t| {
+        (Point::new(20.0 + 100.0 * t, 20.0 + 80.0 * t), 2.5)
+    });
+    let b = polyline(200, |t| {
+        (Point::new(20.0 + 100.0 * t, 100.0 - 80.0 * t), 2.5)
+    });
     let result = trace(140, 120, &[a, b], StrokeWidth::Variable);
     assert_eq!(result.strokes.len(), 2);
     assert_eq!(result.junctions.len(), 1);
@@ -176,10 +200,17 @@ fn an_x_is_two_strokes_through_one_junction() {
     for s in &result.strokes {
         assert_eq!(s.ends, [StrokeEnd::Free, StrokeEnd::Free]);
     }
-    let a = polyline(200, |t| (Point::new(20.0 + 100.0 * t, 20.0 + 80.0 * t), 2.5));
-    let b = polyline(200, |t| (Point::new(20.0 + 100.0 * t, 100.0 - 80.0 * t), 2.5));
+    let a = polyline(200, |t| {
+        (Point::new(20.0 + 100.0 * t, 20.0 + 80.0 * t), 2.5)
+    });
+    let b = polyline(200, |t| {
+        (Point::new(20.0 + 100.0 * t, 100.0 - 80.0 * t), 2.5)
+    });
     let (centre_max, centre_mean, width_max) = errors(&result, &[a, b], &[centre], 8.0);
-    assert!(centre_max <= 0.25 && centre_mean <= 0.1, "{centre_max} {centre_mean}");
+    assert!(
+        centre_max <= 0.25 && centre_mean <= 0.1,
+        "{centre_max} {centre_mean}"
+    );
     assert!(width_max <= 0.3, "width off by {width_max}");
 }
 
@@ -191,7 +222,10 @@ fn a_t_is_a_bar_and_a_stem_that_ends_at_it() {
     assert_eq!(result.strokes.len(), 2);
     assert_eq!(result.junctions.len(), 1);
     let ends: Vec<[StrokeEnd; 2]> = result.strokes.iter().map(|s| s.ends).collect();
-    assert!(ends.contains(&[StrokeEnd::Free, StrokeEnd::Free]), "{ends:?}");
+    assert!(
+        ends.contains(&[StrokeEnd::Free, StrokeEnd::Free]),
+        "{ends:?}"
+    );
     assert!(
         ends.iter().any(|e| e.contains(&StrokeEnd::Junction(0))),
         "the stem ends at the junction: {ends:?}"
@@ -207,7 +241,10 @@ fn a_t_is_a_bar_and_a_stem_that_ends_at_it() {
         Point::new(70.0, 110.0),
     ];
     let (centre_max, centre_mean, width_max) = errors(&result, &[bar, stem], &away, 9.0);
-    assert!(centre_max <= 0.25 && centre_mean <= 0.1, "{centre_max} {centre_mean}");
+    assert!(
+        centre_max <= 0.25 && centre_mean <= 0.1,
+        "{centre_max} {centre_mean}"
+    );
     assert!(width_max <= 0.3, "width off by {width_max}");
 }
 
@@ -215,17 +252,26 @@ fn a_t_is_a_bar_and_a_stem_that_ends_at_it() {
 fn a_ring_is_one_closed_stroke() {
     let ring = polyline(720, |t| {
         let a = t * std::f64::consts::TAU;
-        (Point::new(60.0 + 40.0 * a.cos(), 60.0 + 40.0 * a.sin()), 2.0)
+        (
+            Point::new(60.0 + 40.0 * a.cos(), 60.0 + 40.0 * a.sin()),
+            2.0,
+        )
     });
     let result = trace(120, 120, std::slice::from_ref(&ring), StrokeWidth::Variable);
     assert_eq!(result.strokes.len(), 1);
     assert!(result.strokes[0].closed);
     let (centre_max, centre_mean, width_max) = errors(&result, &[ring], &[], 0.0);
-    assert!(centre_max <= 0.25 && centre_mean <= 0.1, "{centre_max} {centre_mean}");
+    assert!(
+        centre_max <= 0.25 && centre_mean <= 0.1,
+        "{centre_max} {centre_mean}"
+    );
     assert!(width_max <= 0.3, "width off by {width_max}");
     // The ring closes on itself with a smooth joint: its first and last disks agree.
     let segs = &result.strokes[0].segments;
-    let (first, last) = (segs[0].curve.eval(0.0), segs[segs.len() - 1].curve.eval(1.0));
+    let (first, last) = (
+        segs[0].curve.eval(0.0),
+        segs[segs.len() - 1].curve.eval(1.0),
+    );
     assert!(first.center.distance(last.center) < 1e-9);
     assert!((first.radius - last.radius).abs() < 1e-9);
 }

@@ -12,9 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use outlinefit::centerline::{self, trace_centerline, CenterlineResult, StrokeWidth};
 use outlinefit::colour::{self, ColourOptions, ColourTrace};
 use outlinefit::io::{remove_stale_temporaries, write_atomic, write_atomic_with};
-use outlinefit::{
-    export, report, trace_file, Bitmap, Config, ExportOptions, Format, TraceResult,
-};
+use outlinefit::{export, report, trace_file, Bitmap, Config, ExportOptions, Format, TraceResult};
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -143,12 +141,9 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
         centerline: None,
     };
     let writing = Writing {
-        centerline: args.mode.centerline(
-            &args.fit,
-            &config,
-            format,
-            writing.colour.is_some(),
-        )?,
+        centerline: args
+            .mode
+            .centerline(&args.fit, &config, format, writing.colour.is_some())?,
         ..writing
     };
     if !args.input.is_dir() {

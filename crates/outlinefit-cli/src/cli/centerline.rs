@@ -81,7 +81,9 @@ impl ModeArgs {
             bail!("--optimizer applies to outlines; --mode centerline fits by least squares");
         }
         if fit.merge {
-            bail!("--merge applies to outlines; --mode centerline already fits disk Wang–Ball curves");
+            bail!(
+                "--merge applies to outlines; --mode centerline already fits disk Wang–Ball curves"
+            );
         }
         if config.breaks != outlinefit::BreakPlacement::Curvature {
             bail!("--breaks optimize applies to outlines; leave it out with --mode centerline");
@@ -131,17 +133,37 @@ pub(crate) fn centerline_warnings(
     if let Some(problem) = centerline_problem(config, result) {
         out.push(format!("warning: {name}: {problem}"));
     }
-    let over = result.strokes_over(config.tolerance);
-    if over > 0 {
-        let worst = result
-            .strokes
-            .iter()
-            .map(|s| s.centre_max.max(s.radius_max))
-            .fold(0.0, f64::max);
+    let tol = config.tolerance;
+    let centre: Vec<f64> = result
+        .strokes
+        .iter()
+        .map(|s| s.centre_max)
+        .filter(|&d| d > tol)
+        .collect();
+    let radius: Vec<f64> = result
+        .strokes
+        .iter()
+        .map(|s| s.radius_max)
+        .filter(|&d| d > tol)
+        .collect();
+    let worst = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+    let n = result.strokes.len();
+    if !centre.is_empty() {
         out.push(format!(
-            "warning: {name}: {over} of {} strokes miss --tolerance {} px somewhere (up to {worst:.2} px; pieces too short to split, or noisy edges)",
-            result.strokes.len(),
-            config.tolerance
+            "warning: {name}: the centre line of {} of {n} strokes misses --tolerance {tol} px somewhere (up to {:.2} px; pieces too short to split, or noisy edges)",
+            centre.len(),
+            worst(&centre)
+        ));
+    }
+    if !radius.is_empty() {
+        let why = match result.stroke_width {
+            StrokeWidth::Constant => "their width varies more than one width per stroke can draw; --stroke-width variable follows it",
+            StrokeWidth::Variable => "pieces too short to split, or noisy edges",
+        };
+        out.push(format!(
+            "warning: {name}: the width of {} of {n} strokes misses --tolerance {tol} px somewhere (radius up to {:.2} px off: {why})",
+            radius.len(),
+            worst(&radius)
         ));
     }
     out

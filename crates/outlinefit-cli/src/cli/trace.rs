@@ -214,7 +214,9 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     }
     if let Some(width) = centerline {
         let bitmap = match &stdin_bytes {
-            Some(bytes) => Bitmap::load_bytes(bytes, Path::new("<stdin>"), &config.raster_options())?,
+            Some(bytes) => {
+                Bitmap::load_bytes(bytes, Path::new("<stdin>"), &config.raster_options())?
+            }
             None => Bitmap::load(&args.input, &config.raster_options())?,
         };
         let result = trace_centerline(&bitmap, &config, width)?;
@@ -231,8 +233,7 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
                 "--report" => centerline::write_json(w, &config, &name, &result),
                 "--csv" => w.write_all(centerline::to_csv(&result).as_bytes()),
                 _ => w.write_all(
-                    centerline::centerline_overlay_svg(&result, Some(&bitmap.preview()))
-                        .as_bytes(),
+                    centerline::centerline_overlay_svg(&result, Some(&bitmap.preview())).as_bytes(),
                 ),
             })?;
         }

@@ -80,7 +80,11 @@ pub(crate) fn check(strokes: &[Stroke], ink: &Grid, tolerance: f64, region: f64)
         }
     }
     let mut result = StrokeCheck {
-        iou: if either == 0 { 1.0 } else { both as f64 / either as f64 },
+        iou: if either == 0 {
+            1.0
+        } else {
+            both as f64 / either as f64
+        },
         ..StrokeCheck::default()
     };
     let mut seen = vec![false; w * h];

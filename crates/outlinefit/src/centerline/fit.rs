@@ -13,9 +13,7 @@ use crate::breaks::JointKind;
 use crate::curve::wang_ball::{bezier_points_to_wang_ball, Disk, DiskWangBall};
 use crate::curve::RationalCubic;
 use crate::fit::lsq::drawn_residual;
-use crate::fit::solve::{
-    fit_segment, segment_error, EndCondition, FitSettings, SegmentSolution,
-};
+use crate::fit::solve::{fit_segment, segment_error, EndCondition, FitSettings, SegmentSolution};
 use crate::geom::{angle_between, Point};
 use serde::Serialize;
 
@@ -94,7 +92,12 @@ fn arc(points: &[Point]) -> Vec<f64> {
 fn corners(points: &[Point], h: f64, angle: f64, closed: bool) -> Vec<usize> {
     let n = points.len();
     let s = arc(points);
-    let total = s[n - 1] + if closed { points[n - 1].distance(points[0]) } else { 0.0 };
+    let total = s[n - 1]
+        + if closed {
+            points[n - 1].distance(points[0])
+        } else {
+            0.0
+        };
     let at = |i: usize, offset: f64| -> Option<Point> {
         let target = s[i] + offset;
         if !closed && (target < 0.0 || target > s[n - 1]) {
@@ -221,8 +224,16 @@ pub(crate) fn fit_stroke(
     let (pts, rad, start_corner) = if closed {
         let c = corners(points, h, opts.corner_angle, true);
         let first = c.first().copied().unwrap_or(0);
-        let mut p: Vec<Point> = points[first..].iter().chain(&points[..first]).copied().collect();
-        let mut r: Vec<f64> = radii[first..].iter().chain(&radii[..first]).copied().collect();
+        let mut p: Vec<Point> = points[first..]
+            .iter()
+            .chain(&points[..first])
+            .copied()
+            .collect();
+        let mut r: Vec<f64> = radii[first..]
+            .iter()
+            .chain(&radii[..first])
+            .copied()
+            .collect();
         p.push(p[0]);
         r.push(r[0]);
         (p, r, !c.is_empty())
@@ -237,18 +248,29 @@ pub(crate) fn fit_stroke(
     if n < 2 {
         return single_disk(pts[0], constant.unwrap_or(rad[0]));
     }
-    let mut cuts: Vec<usize> = corners(&pts[..if closed { n - 1 } else { n }], h, opts.corner_angle, false)
-        .into_iter()
-        .filter(|&i| i >= MIN_PIECE && i + MIN_PIECE < n)
-        .collect();
+    let mut cuts: Vec<usize> = corners(
+        &pts[..if closed { n - 1 } else { n }],
+        h,
+        opts.corner_angle,
+        false,
+    )
+    .into_iter()
+    .filter(|&i| i >= MIN_PIECE && i + MIN_PIECE < n)
+    .collect();
     cuts.insert(0, 0);
     cuts.push(n - 1);
     cuts.dedup();
     let closing_tangent = (closed && !start_corner).then(|| {
         // The tangent where a smooth closed stroke starts and ends.
         let k = (1..n).take_while(|&j| s[j] <= w).last().unwrap_or(1);
-        let back = (0..n - 1).rev().take_while(|&j| s[n - 1] - s[j] <= w).last().unwrap_or(n - 2);
-        (pts[k] - pts[back]).normalized().unwrap_or(Point::new(1.0, 0.0))
+        let back = (0..n - 1)
+            .rev()
+            .take_while(|&j| s[n - 1] - s[j] <= w)
+            .last()
+            .unwrap_or(n - 2);
+        (pts[k] - pts[back])
+            .normalized()
+            .unwrap_or(Point::new(1.0, 0.0))
     });
     let mut joints: Vec<(Joint, JointKind)> = cuts
         .iter()
@@ -262,8 +284,19 @@ pub(crate) fn fit_stroke(
             } else {
                 JointKind::Corner
             };
-            let tangent = if i == 0 || i == n - 1 { closing_tangent } else { None };
-            (Joint { index: i, tangent, radius: joint_radius(i) }, kind)
+            let tangent = if i == 0 || i == n - 1 {
+                closing_tangent
+            } else {
+                None
+            };
+            (
+                Joint {
+                    index: i,
+                    tangent,
+                    radius: joint_radius(i),
+                },
+                kind,
+            )
         })
         .collect();
     if closed {
@@ -295,7 +328,10 @@ pub(crate) fn fit_stroke(
                 (sol, err) = (line, line_err);
             }
         }
-        let radius = constant.map_or_else(|| fit_radius(run_r, &sol.params, a.radius, b.radius), |r| [r; 4]);
+        let radius = constant.map_or_else(
+            || fit_radius(run_r, &sol.params, a.radius, b.radius),
+            |r| [r; 4],
+        );
         let (mut radius_max, mut worst_r) = (0.0f64, 0);
         for (j, (&r, &t)) in run_r.iter().zip(&sol.params).enumerate() {
             let d = (radius_eval(&radius, t) - r).abs();
@@ -346,7 +382,11 @@ pub(crate) fn fit_stroke(
             point_count: run.len(),
             centre_max: err.max_distance,
             radius_max,
-            joint: if last && !closed { None } else { Some(joints[k + 1].1) },
+            joint: if last && !closed {
+                None
+            } else {
+                Some(joints[k + 1].1)
+            },
         });
         k += 1;
     }

@@ -334,7 +334,11 @@ impl Graph {
             s += ordered[to].distance(ordered[to + 1]);
             to += 1;
         }
-        let start = if to == from { node.centre } else { ordered[from] };
+        let start = if to == from {
+            node.centre
+        } else {
+            ordered[from]
+        };
         let dir = (ordered[to] - start)
             .normalized()
             .unwrap_or(Point::new(1.0, 0.0));
@@ -358,7 +362,9 @@ impl Graph {
                 .filter(|&k| self.edges[k].alive)
                 .flat_map(|k| {
                     let ends = self.edges[k].ends;
-                    (0..2).filter_map(move |e| ends.filter(|x| x[e] == n && x[0] != x[1]).map(|_| (k, e)))
+                    (0..2).filter_map(move |e| {
+                        ends.filter(|x| x[e] == n && x[0] != x[1]).map(|_| (k, e))
+                    })
                 })
                 .collect();
             if at.len() != 3 {
@@ -366,7 +372,9 @@ impl Graph {
             }
             for s in 0..3 {
                 let (ks, es) = at[s];
-                let Some(ends) = self.edges[ks].ends else { continue };
+                let Some(ends) = self.edges[ks].ends else {
+                    continue;
+                };
                 if degree[ends[1 - es]] != 1 {
                     continue;
                 }
@@ -449,7 +457,9 @@ pub(crate) fn pair_at_junctions(graph: &Graph, max_turn: f64) -> Vec<[Option<Edg
     for n in (0..graph.nodes.len()).filter(|&n| graph.nodes[n].alive && degree[n] >= 3) {
         let mut ends: Vec<(EdgeEnd, Point)> = Vec::new();
         for (k, e) in graph.edges.iter().enumerate() {
-            let Some(pair) = e.ends.filter(|_| e.alive) else { continue };
+            let Some(pair) = e.ends.filter(|_| e.alive) else {
+                continue;
+            };
             for (end, &node) in pair.iter().enumerate() {
                 if node == n {
                     ends.push(((k, end), graph.leaving_direction(k, end)));

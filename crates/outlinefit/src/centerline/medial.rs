@@ -177,11 +177,18 @@ mod tests {
         let (c, r) = index
             .centre(Point::new(30.0, 12.0), Point::new(1.0, 0.0), 10.0)
             .unwrap();
-        assert!((c.y - 13.1).abs() < 1e-9 && (c.x - 30.0).abs() < 1e-12, "{c:?}");
+        assert!(
+            (c.y - 13.1).abs() < 1e-9 && (c.x - 30.0).abs() < 1e-12,
+            "{c:?}"
+        );
         assert!((r - 2.8).abs() < 1e-9);
         assert!((index.distance(Point::new(30.0, 12.0), 4.0).unwrap() - 1.7).abs() < 1e-12);
-        let ahead = index.ray(Point::new(50.0, 13.0), Point::new(1.0, 0.0), 20.0).unwrap();
+        let ahead = index
+            .ray(Point::new(50.0, 13.0), Point::new(1.0, 0.0), 20.0)
+            .unwrap();
         assert!((ahead - 10.0).abs() < 1e-12);
-        assert!(index.ray(Point::new(50.0, 13.0), Point::new(1.0, 0.0), 5.0).is_none());
+        assert!(index
+            .ray(Point::new(50.0, 13.0), Point::new(1.0, 0.0), 5.0)
+            .is_none());
     }
 }

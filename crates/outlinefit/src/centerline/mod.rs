@@ -49,7 +49,7 @@ use crate::geom::Point;
 use crate::raster::Bitmap;
 use crate::trace::{nothing_traced, Config, ImageInfo};
 use fit::{fit_stroke, StrokeFitOptions};
-use graph::{Graph, EdgeEnd};
+use graph::{EdgeEnd, Graph};
 use medial::BoundaryIndex;
 use serde::Serialize;
 use skeleton::Grid;
@@ -345,7 +345,11 @@ fn extend_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, index: &BoundaryInd
     // Its slope counts where it changes the radius by more than 0.2 px over the window
     // (a taper; within ±0.15); otherwise the window's mean radius goes on.
     let det_r = sn * s2 - s1 * s1;
-    let slope = if det_r > 1e-12 { ((sn * ssr - s1 * sr) / det_r).clamp(-0.15, 0.15) } else { 0.0 };
+    let slope = if det_r > 1e-12 {
+        ((sn * ssr - s1 * sr) / det_r).clamp(-0.15, 0.15)
+    } else {
+        0.0
+    };
     let (rb, slope) = if slope.abs() * s.abs() > 0.2 {
         ((sr - slope * s1) / sn, slope)
     } else {
@@ -359,7 +363,9 @@ fn extend_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, index: &BoundaryInd
         let next = t + 0.5 / speed;
         let q = at(next);
         let r = (rb + slope * next * speed).max(0.0);
-        let Some(dir) = (v + a * next).normalized() else { break };
+        let Some(dir) = (v + a * next).normalized() else {
+            break;
+        };
         match index.ray(q, dir, limit) {
             Some(ahead) if ahead > r => {
                 extension.push((q, r));
@@ -384,7 +390,12 @@ fn extend_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, index: &BoundaryInd
 /// the stroke that passes through the junction, as a "T"'s stem ends on the bar's centre
 /// line. The junction's centre when no stroke passes through or the lines meet far from
 /// it.
-fn branch_end(graph: &Graph, through: &Option<(Point, Point)>, n: usize, points: &[Point]) -> Point {
+fn branch_end(
+    graph: &Graph,
+    through: &Option<(Point, Point)>,
+    n: usize,
+    points: &[Point],
+) -> Point {
     let node = &graph.nodes[n];
     let (Some((a, b)), Some(&c)) = (through, points.first()) else {
         return node.centre;
@@ -498,7 +509,12 @@ fn assemble(
         let mut radii: Vec<f64> = Vec::new();
         for (idx, &(k, forward)) in chain.iter().enumerate() {
             let e = &graph.edges[k];
-            let mut pr: Vec<(Point, f64)> = e.points.iter().copied().zip(e.radii.iter().copied()).collect();
+            let mut pr: Vec<(Point, f64)> = e
+                .points
+                .iter()
+                .copied()
+                .zip(e.radii.iter().copied())
+                .collect();
             if !forward {
                 pr.reverse();
             }
@@ -538,11 +554,20 @@ fn assemble(
                     points.pop();
                     radii.pop();
                 }
-                let skip = points.iter().take_while(|p| !keep(p)).count().min(points.len().saturating_sub(3));
+                let skip = points
+                    .iter()
+                    .take_while(|p| !keep(p))
+                    .count()
+                    .min(points.len().saturating_sub(3));
                 points.drain(..skip);
                 radii.drain(..skip);
             }
-            strokes.push(RawStroke { points, radii, closed, ends: [None, None] });
+            strokes.push(RawStroke {
+                points,
+                radii,
+                closed,
+                ends: [None, None],
+            });
             continue;
         }
         for side in 0..2 {
@@ -553,7 +578,11 @@ fn assemble(
             match ends[side] {
                 Some(n) => {
                     let keep = outside(n);
-                    let skip = points.iter().take_while(|p| !keep(p)).count().min(points.len().saturating_sub(1));
+                    let skip = points
+                        .iter()
+                        .take_while(|p| !keep(p))
+                        .count()
+                        .min(points.len().saturating_sub(1));
                     let r = radii[skip];
                     points.drain(..skip);
                     radii.drain(..skip);
@@ -575,7 +604,12 @@ fn assemble(
                 radii.reverse();
             }
         }
-        strokes.push(RawStroke { points, radii, closed, ends });
+        strokes.push(RawStroke {
+            points,
+            radii,
+            closed,
+            ends,
+        });
     }
     for &n in &graph.dots {
         let node = &graph.nodes[n];
@@ -610,7 +644,11 @@ pub fn trace_centerline(
     if extraction.contours.is_empty() {
         return Err(nothing_traced(bitmap, config.min_area));
     }
-    let polygons: Vec<Vec<Point>> = extraction.contours.iter().map(|c| c.points.clone()).collect();
+    let polygons: Vec<Vec<Point>> = extraction
+        .contours
+        .iter()
+        .map(|c| c.points.clone())
+        .collect();
     drop(extraction);
     let index = BoundaryIndex::new(&polygons, bitmap.width(), bitmap.height());
     let mut grid = clean_mask(bitmap, config.min_area);
@@ -665,18 +703,32 @@ pub fn trace_centerline(
                 prev = p;
             }
         }
-        let end = |e: Option<usize>| e.map_or(StrokeEnd::Free, |n| StrokeEnd::Junction(junction_id[n]));
+        let end =
+            |e: Option<usize>| e.map_or(StrokeEnd::Free, |n| StrokeEnd::Junction(junction_id[n]));
         Stroke {
             closed: s.closed,
             ends: [end(s.ends[0]), end(s.ends[1])],
             length,
             width_range: [2.0 * lo.max(0.0), 2.0 * hi.max(0.0)],
-            centre_max: chain.segments.iter().map(|g| g.centre_max).fold(0.0, f64::max),
+            centre_max: chain
+                .segments
+                .iter()
+                .map(|g| g.centre_max)
+                .fold(0.0, f64::max),
             centre_rms: chain.centre_rms,
-            radius_max: chain.segments.iter().map(|g| g.radius_max).fold(0.0, f64::max),
+            radius_max: chain
+                .segments
+                .iter()
+                .map(|g| g.radius_max)
+                .fold(0.0, f64::max),
             radius_rms: chain.radius_rms,
             segments: chain.segments,
-            data: s.points.iter().copied().zip(s.radii.iter().copied()).collect(),
+            data: s
+                .points
+                .iter()
+                .copied()
+                .zip(s.radii.iter().copied())
+                .collect(),
         }
     };
     let strokes: Vec<Stroke> = {
@@ -693,7 +745,11 @@ pub fn trace_centerline(
         StrokeCheck::default()
     };
     let total_ink: f64 = strokes.iter().map(Stroke::ink).sum();
-    let blob_ink: f64 = strokes.iter().filter(|s| !s.is_stroke_like()).map(Stroke::ink).sum();
+    let blob_ink: f64 = strokes
+        .iter()
+        .filter(|s| !s.is_stroke_like())
+        .map(Stroke::ink)
+        .sum();
     let seconds = if config.timings {
         started.elapsed().as_secs_f64()
     } else {

@@ -170,7 +170,9 @@ mod tests {
         let mut g = Grid {
             width: 40,
             height: 12,
-            cells: (0..480).map(|i| (3..9).contains(&(i / 40)) && (4..36).contains(&(i % 40))).collect(),
+            cells: (0..480)
+                .map(|i| (3..9).contains(&(i / 40)) && (4..36).contains(&(i % 40)))
+                .collect(),
         };
         thin(&mut g);
         let pixels: Vec<(isize, isize)> = (0..480)
@@ -178,8 +180,14 @@ mod tests {
             .map(|i| ((i % 40) as isize, (i / 40) as isize))
             .collect();
         assert!(pixels.len() >= 20, "{pixels:?}");
-        let ends = pixels.iter().filter(|&&(x, y)| g.neighbours(x, y) == 1).count();
-        let branches = pixels.iter().filter(|&&(x, y)| g.neighbours(x, y) >= 3).count();
+        let ends = pixels
+            .iter()
+            .filter(|&&(x, y)| g.neighbours(x, y) == 1)
+            .count();
+        let branches = pixels
+            .iter()
+            .filter(|&&(x, y)| g.neighbours(x, y) >= 3)
+            .count();
         assert_eq!((ends, branches), (2, 0));
         // Rows 3..9: the centre lies between rows 5 and 6.
         assert!(pixels.iter().all(|&(_, y)| y == 5 || y == 6));
@@ -195,8 +203,17 @@ mod tests {
         let mut g = grid_from(&["....", ".##.", ".##.", "...."]);
         thin(&mut g);
         assert!(g.cells.iter().any(|&b| b));
-        assert_eq!(components(&[true, false, false, false, false, false, false, false]), 1);
-        assert_eq!(components(&[true, false, false, false, true, false, false, false]), 2);
-        assert_eq!(components(&[true, false, true, false, false, false, false, false]), 1);
+        assert_eq!(
+            components(&[true, false, false, false, false, false, false, false]),
+            1
+        );
+        assert_eq!(
+            components(&[true, false, false, false, true, false, false, false]),
+            2
+        );
+        assert_eq!(
+            components(&[true, false, true, false, false, false, false, false]),
+            1
+        );
     }
 }

@@ -8,11 +8,11 @@
 //! fill="none">` per stroke, drawn as thin lines over the strokes (for plotters,
 //! engravers, cutters).
 
+use super::fit::centre_settings;
 use super::{CenterlineResult, Stroke, StrokeWidth};
 use crate::curve::wang_ball::envelope_points;
 use crate::export::overlay::png_base64;
 use crate::export::svg::pixel_document;
-use super::fit::centre_settings;
 use crate::fit::solve::{fit_segment, segment_error, EndCondition};
 use crate::geom::{signed_area, Point};
 use crate::svg_writer::{comment, number, push_point, Circle, Group, Image, Path};
@@ -43,7 +43,9 @@ impl PathText {
 
 /// The centre line of a stroke as path data.
 fn centre_line(stroke: &Stroke, out: &mut PathText) {
-    let Some(first) = stroke.segments.first() else { return };
+    let Some(first) = stroke.segments.first() else {
+        return;
+    };
     out.cmd('M', &[first.bezier[0]]);
     if stroke.segments.len() == 1 && first.point_count <= 1 {
         out.0.push_str("h0");
@@ -68,7 +70,11 @@ fn circle(c: Point, r: f64, positive: bool, out: &mut PathText) {
         Point::new(-1.0, 0.0),
         Point::new(0.0, -1.0),
     ];
-    let order: Vec<usize> = if positive { vec![0, 1, 2, 3, 0] } else { vec![0, 3, 2, 1, 0] };
+    let order: Vec<usize> = if positive {
+        vec![0, 1, 2, 3, 0]
+    } else {
+        vec![0, 3, 2, 1, 0]
+    };
     out.cmd('M', &[c + dirs[order[0]] * r]);
     for w in order.windows(2) {
         let (a, b) = (dirs[w[0]], dirs[w[1]]);
@@ -84,7 +90,12 @@ fn circle(c: Point, r: f64, positive: bool, out: &mut PathText) {
 /// where one cubic misses; a polyline where the points are too few to split.
 fn side_cubics(points: &[Point], bound: f64, depth: usize, out: &mut PathText) {
     if points.len() >= 4 {
-        let sol = fit_segment(points, EndCondition::Free, EndCondition::Free, &centre_settings());
+        let sol = fit_segment(
+            points,
+            EndCondition::Free,
+            EndCondition::Free,
+            &centre_settings(),
+        );
         let err = segment_error(&sol.curve, points, &sol.params);
         if err.max_distance <= bound || depth >= 4 || points.len() < 9 {
             if err.max_distance <= bound {
@@ -119,7 +130,12 @@ fn envelope_path(stroke: &Stroke, bound: f64, out: &mut PathText) {
             .map(|i| {
                 let t = i as f64 / samples as f64;
                 let d = c.eval(t);
-                envelope_points(d.center, d.radius, c.center_derivative(t), c.radius_derivative(t))
+                envelope_points(
+                    d.center,
+                    d.radius,
+                    c.center_derivative(t),
+                    c.radius_derivative(t),
+                )
             })
             .collect();
         match sides {
@@ -127,8 +143,13 @@ fn envelope_path(stroke: &Stroke, bound: f64, out: &mut PathText) {
                 let plus: Vec<Point> = sides.iter().map(|s| s.0).collect();
                 let minus: Vec<Point> = sides.iter().rev().map(|s| s.1).collect();
                 let band: Vec<Point> = plus.iter().chain(&minus).copied().collect();
-                let (a, b) = if signed_area(&band) >= 0.0 { (plus, minus) } else {
-                    (minus.into_iter().rev().collect(), plus.into_iter().rev().collect())
+                let (a, b) = if signed_area(&band) >= 0.0 {
+                    (plus, minus)
+                } else {
+                    (
+                        minus.into_iter().rev().collect(),
+                        plus.into_iter().rev().collect(),
+                    )
                 };
                 out.cmd('M', &[a[0]]);
                 side_cubics(&a, bound, 0, out);
@@ -241,7 +262,12 @@ pub fn centerline_overlay_svg(
         path.0
     };
     let skeleton = dots(&mut result.skeleton.iter().copied());
-    let measured = dots(&mut result.strokes.iter().flat_map(|s| s.data.iter().map(|d| d.0)));
+    let measured = dots(
+        &mut result
+            .strokes
+            .iter()
+            .flat_map(|s| s.data.iter().map(|d| d.0)),
+    );
     doc.add(
         Path::new()
             .set("id", "skeleton")
