@@ -133,7 +133,7 @@ fn assert_refused(extra: &[&str], out_name: &str, expect: &str) {
         "-o".as_ref(),
         out_path.as_os_str(),
     ];
-    args.extend(extra.iter().map(|a| std::ffi::OsStr::new(a)));
+    args.extend(extra.iter().map(std::ffi::OsStr::new));
     let out = run(&args);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{extra:?}: {stderr}");
