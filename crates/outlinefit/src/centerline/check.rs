@@ -5,28 +5,8 @@
 //! lies that far inside them (the half pixel is the mask's own uncertainty). Regions of
 //! such pixels (8-connected) of at least `region` pixels fail the check.
 
+use super::result::{Stroke, StrokeCheck};
 use super::skeleton::Grid;
-use super::Stroke;
-use serde::Serialize;
-
-/// The verdict of the check.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct StrokeCheck {
-    /// True when no lost or invented region reaches the region limit.
-    pub held: bool,
-    /// Intersection over union of the drawn strokes and the mask (pixel centres).
-    pub iou: f64,
-    /// Pixels lost (ink outside the strokes by more than the margin).
-    pub lost_pixels: usize,
-    /// Pixels invented (paper inside the strokes by more than the margin).
-    pub invented_pixels: usize,
-    /// Lost regions at or above the region limit.
-    pub lost_regions: usize,
-    /// Invented regions at or above the region limit.
-    pub invented_regions: usize,
-    /// The largest lost or invented region, pixels.
-    pub largest_region: usize,
-}
 
 /// Signed distance (px) of every pixel centre from the drawn strokes' edge, negative
 /// inside; `+∞` far outside.

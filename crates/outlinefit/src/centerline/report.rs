@@ -1,7 +1,7 @@
 //! The centre-line reports: JSON (the configuration, every stroke with its pieces' control
 //! disks, the junctions, the check) and CSV (one row per stroke).
 
-use super::CenterlineResult;
+use super::result::{CenterlineResult, StrokeEnd};
 use crate::trace::Config;
 use crate::VERSION;
 use serde::Serialize;
@@ -52,9 +52,9 @@ pub fn to_csv(result: &CenterlineResult) -> String {
         "radius_max",
         "radius_rms",
     ]);
-    let end = |e: super::StrokeEnd| match e {
-        super::StrokeEnd::Free => "free".to_string(),
-        super::StrokeEnd::Junction(j) => format!("junction {j}"),
+    let end = |e: StrokeEnd| match e {
+        StrokeEnd::Free => "free".to_string(),
+        StrokeEnd::Junction(j) => format!("junction {j}"),
     };
     let f = |x: f64| format!("{x:.4}");
     for (k, s) in result.strokes.iter().enumerate() {

@@ -9,7 +9,7 @@
 //! engravers, cutters).
 
 use super::fit::centre_settings;
-use super::{CenterlineResult, Stroke, StrokeWidth};
+use super::result::{CenterlineResult, Stroke, StrokeEnd, StrokeWidth};
 use crate::curve::wang_ball::envelope_points;
 use crate::export::overlay::png_base64;
 use crate::export::svg::pixel_document;
@@ -316,7 +316,7 @@ pub fn centerline_overlay_svg(
                 (stroke.ends[0], stroke.segments.first().map(|s| s.bezier[0])),
                 (stroke.ends[1], stroke.segments.last().map(|s| s.bezier[3])),
             ] {
-                if let (super::StrokeEnd::Free, Some(p)) = (end, p) {
+                if let (StrokeEnd::Free, Some(p)) = (end, p) {
                     ends = ends.add(
                         Circle::new()
                             .set("cx", number(p.x, PRECISION))
