@@ -48,21 +48,20 @@ impl BoundaryIndex {
         }
     }
 
-    /// Calls `f` with every edge in the cells within `reach` of `p`.
+    /// Calls `f` with every edge in the cells within `reach` of `p`, once each: an edge
+    /// listed in several cells is taken in the first of them (lowest row, then column)
+    /// that the query covers.
     fn near(&self, p: Point, reach: f64, mut f: impl FnMut(Point, Point)) {
-        let span = |v: f64, n: usize| {
-            let lo = ((v - reach) / CELL).floor().max(0.0) as usize;
-            let hi = (((v + reach) / CELL).floor().max(0.0) as usize).min(n - 1);
-            lo.min(n - 1)..=hi
-        };
-        let mut seen: Vec<u32> = Vec::new();
-        for row in span(p.y, self.rows) {
-            for col in span(p.x, self.columns) {
+        let cell = |v: f64, n: usize| ((v / CELL).floor().max(0.0) as usize).min(n - 1);
+        let (c0, c1) = (cell(p.x - reach, self.columns), cell(p.x + reach, self.columns));
+        let (r0, r1) = (cell(p.y - reach, self.rows), cell(p.y + reach, self.rows));
+        for row in r0..=r1 {
+            for col in c0..=c1 {
                 for &id in &self.cells[row * self.columns + col] {
-                    // An edge spanning several cells is listed in each.
-                    if !seen.contains(&id) {
-                        seen.push(id);
-                        let (a, b) = self.edges[id as usize];
+                    let (a, b) = self.edges[id as usize];
+                    let first_row = cell(a.y.min(b.y), self.rows).max(r0);
+                    let first_col = cell(a.x.min(b.x), self.columns).max(c0);
+                    if row == first_row && col == first_col {
                         f(a, b);
                     }
                 }

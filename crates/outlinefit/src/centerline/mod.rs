@@ -243,12 +243,13 @@ fn extend_end(points: &mut Vec<Point>, radii: &mut Vec<f64>, index: &BoundaryInd
         let Some(dir) = (v + a * next).normalized() else {
             break;
         };
-        match index.ray(q, dir, limit) {
-            Some(ahead) if ahead > r => {
+        // Only whether the boundary ahead is farther than the radius matters.
+        match index.ray(q, dir, r + 1.0) {
+            Some(ahead) if ahead <= r => break,
+            _ => {
                 extension.push((q, r));
                 t = next;
             }
-            _ => break,
         }
     }
     if extension.is_empty() {
