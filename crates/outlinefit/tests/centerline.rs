@@ -232,7 +232,7 @@ fn a_t_is_a_bar_and_a_stem_that_ends_at_it() {
     );
     let bar = polyline(200, |t| (Point::new(20.0 + 100.0 * t, 30.0), 3.0));
     let stem = polyline(200, |t| (Point::new(70.0, 30.0 + 80.0 * t), 3.0));
-    // Widths are checked away from the junction and from the three free ends, where the
+    // Widths are checked two widths away from the junction and from the three free ends, where the
     // last few pixels' radii come out up to 0.3 px small (see the README).
     let away = [
         Point::new(70.0, 30.0),
@@ -240,7 +240,7 @@ fn a_t_is_a_bar_and_a_stem_that_ends_at_it() {
         Point::new(120.0, 30.0),
         Point::new(70.0, 110.0),
     ];
-    let (centre_max, centre_mean, width_max) = errors(&result, &[bar, stem], &away, 9.0);
+    let (centre_max, centre_mean, width_max) = errors(&result, &[bar, stem], &away, 12.0);
     assert!(
         centre_max <= 0.25 && centre_mean <= 0.1,
         "{centre_max} {centre_mean}"

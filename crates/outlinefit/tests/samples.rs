@@ -51,7 +51,11 @@ fn check_sample(config: &Config, min_iou: f64) {
         // The line-art sample's strokes are 2-9 px wide: there the same edge error is
         // several times the share of the area it is on the filled shapes (0.05 px on
         // each side of a 5 px stroke is 2 %).
-        let min_iou = if name == "sketch.png" { min_iou - 0.02 } else { min_iou };
+        let min_iou = if name == "sketch.png" {
+            min_iou - 0.02
+        } else {
+            min_iou
+        };
         assert!(iou >= min_iou, "{name}: IoU {iou:.4} < {min_iou}");
         if std::env::var_os("OUTLINEFIT_SHOW_IOU").is_some() {
             eprintln!("{name}: IoU {iou:.4}");

@@ -53,7 +53,10 @@ impl BoundaryIndex {
     /// that the query covers.
     fn near(&self, p: Point, reach: f64, mut f: impl FnMut(Point, Point)) {
         let cell = |v: f64, n: usize| ((v / CELL).floor().max(0.0) as usize).min(n - 1);
-        let (c0, c1) = (cell(p.x - reach, self.columns), cell(p.x + reach, self.columns));
+        let (c0, c1) = (
+            cell(p.x - reach, self.columns),
+            cell(p.x + reach, self.columns),
+        );
         let (r0, r1) = (cell(p.y - reach, self.rows), cell(p.y + reach, self.rows));
         for row in r0..=r1 {
             for col in c0..=c1 {

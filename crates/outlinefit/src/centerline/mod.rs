@@ -398,7 +398,10 @@ fn assemble(
             }
             if idx > 0 {
                 if let Some(n) = node_at(k, forward, false) {
-                    let keep = outside(n);
+                    // A stroke passing through drops its points within 1.5 junction radii:
+                    // their disks there also touch the other stroke, and would widen it.
+                    let node = &graph.nodes[n];
+                    let keep = move |p: &Point| p.distance(node.centre) > 1.5 * node.radius;
                     while points.len() > 1 && !keep(&points[points.len() - 1]) {
                         points.pop();
                         radii.pop();
