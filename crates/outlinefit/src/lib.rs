@@ -46,7 +46,8 @@
 //! ## Modules
 //!
 //! The root holds what a tracing program needs. A few modules hold the rest: [`colour`]
-//! (colour tracing), [`curve`]
+//! (colour tracing), [`centerline`] (line art as centre lines with their width, as chains
+//! of disk Wang–Ball curves), [`curve`]
 //! (the curve kernel: rational and polynomial cubics, Bernstein and Wang–Ball machinery),
 //! [`optim`] (the papers' metaheuristics behind one trait), [`fit`] (refitting a
 //! segmentation with them), [`merge`] (merging two disk Wang–Ball curves), [`report`]

@@ -30,7 +30,7 @@ fn drawn_distance(strokes: &[Stroke], width: usize, height: usize) -> Vec<f32> {
     };
     for stroke in strokes {
         for seg in &stroke.segments {
-            let length = seg.curve.center_arc_length();
+            let length = seg.chord_length();
             let steps = (2.0 * length).ceil().max(1.0) as usize;
             for i in 0..=steps {
                 let d = seg.curve.eval(i as f64 / steps as f64);

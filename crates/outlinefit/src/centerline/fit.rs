@@ -70,6 +70,22 @@ fn disks_as_triples<S: serde::Serializer>(c: &DiskWangBall, s: S) -> Result<S::O
     seq.end()
 }
 
+impl StrokeSegment {
+    /// The length of the centre curve as 32 chords: enough to space samples along it.
+    /// (The adaptive arc length never settles on a piece of zero length, a dot's.)
+    pub(crate) fn chord_length(&self) -> f64 {
+        let mut prev = self.curve.center(0.0);
+        (1..=32)
+            .map(|k| {
+                let p = self.curve.center(k as f64 / 32.0);
+                let d = p.distance(prev);
+                prev = p;
+                d
+            })
+            .sum()
+    }
+}
+
 /// The fitted chain of a stroke, and its error sums.
 pub(crate) struct FittedChain {
     pub(crate) segments: Vec<StrokeSegment>,

@@ -125,7 +125,7 @@ fn envelope_path(stroke: &Stroke, bound: f64, out: &mut PathText) {
             disks.push((c.center(0.0), c.radius(0.0)));
         }
         disks.push((c.center(1.0), c.radius(1.0)));
-        let samples = ((c.center_arc_length() / 2.0).ceil() as usize).clamp(12, 400);
+        let samples = ((seg.chord_length() / 2.0).ceil() as usize).clamp(12, 400);
         let sides: Option<Vec<(Point, Point)>> = (0..=samples)
             .map(|i| {
                 let t = i as f64 / samples as f64;
@@ -159,7 +159,7 @@ fn envelope_path(stroke: &Stroke, bound: f64, out: &mut PathText) {
             _ => {
                 // No envelope (the radius changes faster than the centre moves): the
                 // disks themselves, half a pixel apart.
-                let steps = (2.0 * c.center_arc_length()).ceil().max(1.0) as usize;
+                let steps = (2.0 * seg.chord_length()).ceil().max(1.0) as usize;
                 for i in 1..steps {
                     let d = c.eval(i as f64 / steps as f64);
                     disks.push((d.center, d.radius));
