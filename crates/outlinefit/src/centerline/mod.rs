@@ -318,6 +318,22 @@ fn assemble(
     let degree = graph.degrees();
     let mut used = vec![false; graph.edges.len()];
     let mut chains: Vec<(Vec<(usize, bool)>, bool)> = Vec::new();
+    // The edges of one stroke, from edge `k` entered at its end `start_end`, through the
+    // pairings, as (edge, forwards); each edge is taken once.
+    let follow = |used: &mut Vec<bool>, k: usize, start_end: usize| {
+        let mut chain = vec![(k, start_end == 0)];
+        used[k] = true;
+        let mut exit = (k, 1 - start_end);
+        while let Some((k2, e2)) = link[exit.0][exit.1] {
+            if used[k2] {
+                break;
+            }
+            used[k2] = true;
+            chain.push((k2, e2 == 0));
+            exit = (k2, 1 - e2);
+        }
+        chain
+    };
     // Open chains start at an end without a continuation.
     for k in 0..graph.edges.len() {
         for start_end in 0..2 {
@@ -325,17 +341,7 @@ fn assemble(
             if used[k] || !e.alive || e.ends.is_none() || link[k][start_end].is_some() {
                 continue;
             }
-            let mut chain = vec![(k, start_end == 0)];
-            used[k] = true;
-            let mut exit = (k, 1 - start_end);
-            while let Some((k2, e2)) = link[exit.0][exit.1] {
-                if used[k2] {
-                    break;
-                }
-                used[k2] = true;
-                chain.push((k2, e2 == 0));
-                exit = (k2, 1 - e2);
-            }
+            let chain = follow(&mut used, k, start_end);
             chains.push((chain, false));
         }
     }
@@ -344,19 +350,8 @@ fn assemble(
         if used[k] || !graph.edges[k].alive {
             continue;
         }
-        used[k] = true;
-        let mut chain = vec![(k, true)];
-        let mut exit = (k, 1);
-        if graph.edges[k].ends.is_some() {
-            while let Some((k2, e2)) = link[exit.0][exit.1] {
-                if used[k2] {
-                    break;
-                }
-                used[k2] = true;
-                chain.push((k2, e2 == 0));
-                exit = (k2, 1 - e2);
-            }
-        }
+        // A loop has no ends, so no pairing to follow.
+        let chain = follow(&mut used, k, 0);
         chains.push((chain, true));
     }
     // The line a stroke passing through each junction takes across it: from where its

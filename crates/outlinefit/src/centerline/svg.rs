@@ -11,11 +11,11 @@
 use super::fit::centre_settings;
 use super::result::{CenterlineResult, Stroke, StrokeEnd, StrokeWidth};
 use crate::curve::wang_ball::envelope_points;
-use crate::export::overlay::png_base64;
+use crate::export::overlay::{add_background, VIEW_SIDE};
 use crate::export::svg::pixel_document;
 use crate::fit::solve::{fit_segment, segment_error, EndCondition};
 use crate::geom::{signed_area, Point};
-use crate::svg_writer::{comment, number, push_point, Circle, Group, Image, Path};
+use crate::svg_writer::{comment, number, push_point, Circle, Group, Path};
 
 /// Decimals of the coordinates.
 const PRECISION: usize = 2;
@@ -60,9 +60,9 @@ fn centre_line(stroke: &Stroke, out: &mut PathText) {
     }
 }
 
-/// A circle as four cubics, turning the way `positive` says (signed area > 0 in image
+/// A circle as four cubics, turning the way the bands do (signed area > 0 in image
 /// coordinates).
-fn circle(c: Point, r: f64, positive: bool, out: &mut PathText) {
+fn circle(c: Point, r: f64, out: &mut PathText) {
     let r = r.max(0.0);
     let dirs = [
         Point::new(1.0, 0.0),
@@ -70,11 +70,7 @@ fn circle(c: Point, r: f64, positive: bool, out: &mut PathText) {
         Point::new(-1.0, 0.0),
         Point::new(0.0, -1.0),
     ];
-    let order: Vec<usize> = if positive {
-        vec![0, 1, 2, 3, 0]
-    } else {
-        vec![0, 3, 2, 1, 0]
-    };
+    let order = [0, 1, 2, 3, 0];
     out.cmd('M', &[c + dirs[order[0]] * r]);
     for w in order.windows(2) {
         let (a, b) = (dirs[w[0]], dirs[w[1]]);
@@ -169,7 +165,7 @@ fn envelope_path(stroke: &Stroke, bound: f64, out: &mut PathText) {
     }
     for (c, r) in disks {
         if r > 0.0 {
-            circle(c, r, true, out);
+            circle(c, r, out);
         }
     }
 }
@@ -233,25 +229,12 @@ pub fn centerline_overlay_svg(
 ) -> String {
     let (width, height) = (result.image.width, result.image.height);
     let side = f64::from(width.max(height).max(1));
-    let zoom = (800.0 / side).ceil().max(1.0) as u64;
-    let unit = side / 800.0;
+    let zoom = (VIEW_SIDE / side).ceil().max(1.0) as u64;
+    let unit = side / VIEW_SIDE;
     let size = |x: f64| number(x, 4);
     let mut doc = pixel_document(width, height, zoom);
     if let Some(img) = background {
-        match png_base64(img) {
-            Ok(data) => doc.add(
-                Image::new()
-                    .set("id", "background")
-                    .set("width", width)
-                    .set("height", height)
-                    .set("preserveAspectRatio", "none")
-                    .set("image-rendering", "optimizeSpeed")
-                    .set("style", "image-rendering:pixelated")
-                    .set("opacity", 0.5)
-                    .set("href", format!("data:image/png;base64,{data}")),
-            ),
-            Err(e) => doc.add(comment(&format!("background image left out: {e}"))),
-        }
+        add_background(&mut doc, img, width, height, 0.5);
     }
     let dots = |points: &mut dyn Iterator<Item = Point>| {
         let mut path = PathText(String::new());

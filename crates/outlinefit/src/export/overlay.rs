@@ -43,7 +43,7 @@ use image::ImageEncoder as _;
 type SvgPath = crate::svg_writer::Path;
 
 /// Nominal size, in screen pixels, of the longer side of the picture.
-const VIEW_SIDE: f64 = 800.0;
+pub(crate) const VIEW_SIDE: f64 = 800.0;
 
 /// Fewest decimals of marker sizes and line widths, which are small numbers on small images
 /// (one nominal screen pixel of an 8-px image is 0.01 px).
@@ -116,22 +116,7 @@ pub fn to_overlay_svg(
 
     let mut doc = pixel_document(width, height, zoom);
     if let Some(img) = background {
-        match png_base64(img) {
-            Ok(data) => doc.add(
-                Image::new()
-                    .set("id", "background")
-                    .set("x", 0)
-                    .set("y", 0)
-                    .set("width", width)
-                    .set("height", height)
-                    .set("preserveAspectRatio", "none")
-                    .set("image-rendering", "optimizeSpeed")
-                    .set("style", "image-rendering:pixelated")
-                    .set("opacity", 0.6)
-                    .set("href", format!("data:image/png;base64,{data}")),
-            ),
-            Err(e) => doc.comment(&format!("background image left out: {e}")),
-        }
+        add_background(&mut doc, img, width, height, 0.6);
     }
 
     if opts.show_control_polygons {
@@ -377,8 +362,35 @@ fn legend(unit: f64, opts: &OverlayOptions, has_merged: bool, precision: usize) 
     g
 }
 
+/// Adds `img` as the picture's `background` layer, stretched to `width` × `height` (the
+/// traced image's size) with its pixels kept sharp, or a comment saying why it is left out.
+pub(crate) fn add_background(
+    doc: &mut crate::svg_writer::Document,
+    img: &image::GrayImage,
+    width: u32,
+    height: u32,
+    opacity: f64,
+) {
+    match png_base64(img) {
+        Ok(data) => doc.add(
+            Image::new()
+                .set("id", "background")
+                .set("x", 0)
+                .set("y", 0)
+                .set("width", width)
+                .set("height", height)
+                .set("preserveAspectRatio", "none")
+                .set("image-rendering", "optimizeSpeed")
+                .set("style", "image-rendering:pixelated")
+                .set("opacity", opacity)
+                .set("href", format!("data:image/png;base64,{data}")),
+        ),
+        Err(e) => doc.comment(&format!("background image left out: {e}")),
+    }
+}
+
 /// The image as a PNG, base64-encoded.
-pub(crate) fn png_base64(img: &image::GrayImage) -> Result<String, image::ImageError> {
+fn png_base64(img: &image::GrayImage) -> Result<String, image::ImageError> {
     let mut png = Vec::new();
     image::codecs::png::PngEncoder::new(&mut png).write_image(
         img.as_raw(),
