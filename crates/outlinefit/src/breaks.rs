@@ -18,6 +18,7 @@
 
 use crate::contour::Contour;
 use crate::geom::{angle_between, line_crossing, wrap_once, Point};
+use crate::raster::Bitmap;
 use serde::{Deserialize, Serialize};
 
 /// Options of break detection.
@@ -232,8 +233,15 @@ fn max_off_line(
 /// A corner whose two sides are straight near it (within 0.2 px over 1.5 windows) is
 /// sharpened: the rounded points of its core (within h/2 of arc length) are replaced by the
 /// intersection of the two side lines, which is where the true corner of an anti-aliased
-/// or smoothed outline lies.
-pub(crate) fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedContour {
+/// or smoothed outline lies. With `pixels` (a grey-level image) a corner more than
+/// [`UNCHECKED_CORNER_MOVE`] px from the rounded outline is sharpened only where the grey
+/// levels show the wedge between the two ([`wedge_has_ink`]): a blunt or rounded tip
+/// between straight sides (the apex of a serif "A" at 600 dpi) keeps its shape.
+pub(crate) fn find_breaks(
+    contour: &Contour,
+    opts: &BreakOptions,
+    pixels: Option<&Bitmap>,
+) -> SegmentedContour {
     let n0 = contour.points.len();
     if n0 < 3 {
         return build_segmented(contour.points.clone(), contour, Vec::new());
@@ -308,7 +316,12 @@ pub(crate) fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedCo
                 continue;
             }
             if let (true, Some(x)) = (straight, line_intersection(a0, a1, b0, b1)) {
-                if x.distance(src[i]) < h {
+                let evident = || {
+                    let pixels = pixels.filter(|p| !p.is_bilevel());
+                    x.distance(src[i]) <= UNCHECKED_CORNER_MOVE
+                        || pixels.is_none_or(|p| wedge_has_ink(p, src[i], x, a0, b1))
+                };
+                if x.distance(src[i]) < h && evident() {
                     skip_core(&mut skip);
                     replace[i] = Some(x);
                 }
@@ -421,6 +434,38 @@ pub(crate) fn find_breaks(contour: &Contour, opts: &BreakOptions) -> SegmentedCo
         }
     }
     build_segmented(points, contour, found)
+}
+
+/// Largest distance (px) from the rounded outline to a sharpened corner that needs no
+/// grey-level evidence: anti-aliasing and the edge estimate round a sharp corner by about
+/// this much, and at this scale the pixels cannot tell a sharp corner from a rounded one.
+const UNCHECKED_CORNER_MOVE: f64 = 1.5;
+
+/// Share of the coverage a sharp wedge would give that the pixels must show halfway
+/// between the rounded outline and the sharpened corner: blur spreads a wedge's ink, but
+/// not below a third of it (a Gaussian of σ = 1 px keeps 0.68 of a 2 px wide band at its
+/// centre), while a blunt tip shows paper there.
+const WEDGE_INK_SHARE: f64 = 0.3;
+
+/// True when the pixels show the wedge between the rounded tip `tip` of a corner and the
+/// intersection `x` of its sides (through `a` and `b`, one point on each): halfway between
+/// the two, the material behind the tip (ink, or paper for a hole's corner) covers at
+/// least [`WEDGE_INK_SHARE`] of what a sharp wedge of that opening would there.
+fn wedge_has_ink(pixels: &Bitmap, tip: Point, x: Point, a: Point, b: Point) -> bool {
+    let (Some(u), Some(da), Some(db)) = (
+        (x - tip).normalized(),
+        (a - x).normalized(),
+        (b - x).normalized(),
+    ) else {
+        return true;
+    };
+    let half_opening = 0.5 * da.dot(db).clamp(-1.0, 1.0).acos();
+    let mid = (tip + x) * 0.5;
+    let width = 2.0 * mid.distance(x) * half_opening.tan();
+    let ink = pixels.sample(tip - u * 0.75) >= pixels.threshold();
+    let v = pixels.sample(mid);
+    let share = if ink { v } else { 1.0 - v };
+    share >= WEDGE_INK_SHARE * width.min(1.0)
 }
 
 /// Intersection of the line through a0, a1 with the line through b0, b1, if they are not
@@ -632,6 +677,7 @@ mod tests {
         let seg = find_breaks(
             &contour(square(40.0, 1.0)),
             &BreakOptions::for_image(50.0, 64, 64),
+            None,
         );
         let corners: Vec<Point> = seg
             .breaks
@@ -661,7 +707,11 @@ mod tests {
                 Point::new(50.0 + 30.0 * a.cos(), 50.0 + 30.0 * a.sin())
             })
             .collect();
-        let seg = find_breaks(&contour(pts), &BreakOptions::for_image(50.0, 100, 100));
+        let seg = find_breaks(
+            &contour(pts),
+            &BreakOptions::for_image(50.0, 100, 100),
+            None,
+        );
         assert!(seg.breaks.iter().all(|b| b.kind == JointKind::Smooth));
         assert!(seg.breaks.len() >= 2);
     }
@@ -680,7 +730,11 @@ mod tests {
         }
         pts.push(Point::new(80.0, 100.0));
         pts.push(Point::new(0.0, 100.0));
-        let seg = find_breaks(&contour(pts), &BreakOptions::for_image(60.0, 100, 100));
+        let seg = find_breaks(
+            &contour(pts),
+            &BreakOptions::for_image(60.0, 100, 100),
+            None,
+        );
         let infl: Vec<Point> = seg
             .breaks
             .iter()

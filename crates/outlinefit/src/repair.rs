@@ -202,7 +202,7 @@ pub(crate) fn check_and_repair(
                     Some(if step == Repair::PixelRaw {
                         polygon_segmented(c.points, c.is_hole, c.parent)
                     } else {
-                        find_breaks(&c, break_options)
+                        find_breaks(&c, break_options, Some(bitmap))
                     })
                 }
                 _ => None,
@@ -331,7 +331,10 @@ pub(crate) fn check_and_repair(
                     continue;
                 };
                 let options = lsq_options(tolerance, limits.bound, timings);
-                contours.push(fit_contour(&find_breaks(&c, break_options), &options));
+                contours.push(fit_contour(
+                    &find_breaks(&c, break_options, Some(bitmap)),
+                    &options,
+                ));
                 merged.push(Vec::new());
                 changed.insert(contours.len() - 1);
                 border_of.push(b);

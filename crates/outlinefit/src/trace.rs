@@ -410,7 +410,7 @@ pub fn trace_bitmap_with_progress(
     // repair re-traces from the borders, so the extracted copy is not kept (on a page it
     // is as large as the fitted points).
     let fit_indexed = |(i, c): (usize, Contour)| -> Result<(FittedContour, Vec<MergedCurve>)> {
-        let fitted = fit_one(find_breaks(&c, &break_options), i)?;
+        let fitted = fit_one(find_breaks(&c, &break_options, Some(bitmap)), i)?;
         progress.advance(c.points.len() as u64);
         drop(c);
         let merged = merge_options.as_ref().map_or_else(Vec::new, |opts| {

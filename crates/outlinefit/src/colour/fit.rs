@@ -95,7 +95,7 @@ pub(crate) fn fit_boundary(
             is_hole: false,
             parent: None,
         };
-        let fitted = fit_contour(&find_breaks(&contour, breaks), lsq);
+        let fitted = fit_contour(&find_breaks(&contour, breaks, None), lsq);
         if !fitted.segments.is_empty() {
             return FittedChain {
                 points: fitted.points,
@@ -129,7 +129,7 @@ pub(crate) fn fit_boundary(
         is_hole: false,
         parent: None,
     };
-    let mut seg = find_breaks(&contour, breaks);
+    let mut seg = find_breaks(&contour, breaks, None);
     // The ends, wherever the breaks left them (they may insert or replace points).
     let nearest = |target: Point, around: usize| -> usize {
         let lo = around.saturating_sub(pad);

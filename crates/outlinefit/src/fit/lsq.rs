@@ -731,7 +731,7 @@ mod tests {
             is_hole: false,
             parent: None,
         };
-        let seg = find_breaks(&c, &BreakOptions::for_image(50.0, 128, 128));
+        let seg = find_breaks(&c, &BreakOptions::for_image(50.0, 128, 128), None);
         let opts = LsqOptions {
             tolerance: 0.05,
             settings: FitSettings::default(),

@@ -463,7 +463,7 @@ mod tests {
             ..Config::default()
         };
         let opts = config.placement_options();
-        let seg = find_breaks(&c, &BreakOptions::for_image(50.0, 128, 128));
+        let seg = find_breaks(&c, &BreakOptions::for_image(50.0, 128, 128), None);
         (super::super::lsq::fit_contour(&seg, &opts.lsq), opts)
     }
 

@@ -221,6 +221,7 @@ mod tests {
                 parent: None,
             },
             &BreakOptions::for_image(50.0, 100, 100),
+            None,
         );
         lsq_fit(
             &seg,
