@@ -468,16 +468,33 @@ impl Bitmap {
 
     fn detect_bilevel(&self) -> bool {
         let w = self.width as usize;
+        let rows = self.coverage.len() / w;
+        // A large image is counted in bands of rows on the thread pool; the counts are
+        // whole numbers, so their sum is the same on any number of threads.
+        let band = (BILEVEL_BAND_PIXELS / w).max(1);
+        let (edge, grey_edge) = if rows * w >= 2 * BILEVEL_BAND_PIXELS {
+            use rayon::prelude::*;
+            (0..rows.div_ceil(band))
+                .into_par_iter()
+                .map(|k| self.crossings(k * band..((k + 1) * band).min(rows)))
+                .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+        } else {
+            self.crossings(0..rows)
+        };
+        (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
+    }
+
+    /// The threshold crossings between neighbouring pixels within the rows of `band` and
+    /// between each of them and the next row, and how many of their pixels are grey (see
+    /// [`crossing_counts`]).
+    fn crossings(&self, band: std::ops::Range<usize>) -> (u64, u64) {
+        let w = self.width as usize;
+        let rows = self.coverage.len() / w;
         let level = self.foreground_level();
         let (mut edge, mut grey_edge) = (0u64, 0u64);
         let (mut row, mut next) = (vec![0.0; w], vec![0.0; w]);
-        let rows = self.coverage.len() / w;
-        for r in 0..rows {
-            if r == 0 {
-                self.read_row(0, &mut row);
-            } else {
-                std::mem::swap(&mut row, &mut next);
-            }
+        self.read_row(band.start, &mut row);
+        for r in band {
             let (e, g) = crossing_counts(&row[..w - 1], &row[1..], level);
             edge += e;
             grey_edge += g;
@@ -486,9 +503,10 @@ impl Bitmap {
                 let (e, g) = crossing_counts(&row, &next, level);
                 edge += e;
                 grey_edge += g;
+                std::mem::swap(&mut row, &mut next);
             }
         }
-        (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
+        (edge, grey_edge)
     }
 
     fn measure_border(&self) -> f64 {
@@ -514,6 +532,10 @@ impl Bitmap {
         dark as f64 / ring as f64
     }
 }
+
+/// Pixels per band of rows in which [`Bitmap::detect_bilevel`] counts a large image's
+/// crossings in parallel.
+const BILEVEL_BAND_PIXELS: usize = 1 << 20;
 
 /// Over pixel pairs (a[i], b[i]): twice the number of pairs that cross `level` (one on
 /// each side), and how many of those pixels are grey. Written as plain sums so that it
@@ -1153,6 +1175,28 @@ mod tests {
             from_image(&grey, &forced(AlphaRule::Alpha)),
             Err(Error::InvalidOption { name: "alpha", .. })
         ));
+    }
+
+    #[test]
+    fn crossings_of_bands_add_up_to_those_of_the_whole_image() {
+        // Anti-aliased disks on a 300 × 200 image, counted whole and in bands of 7 rows
+        // (the parallel split of a large image), band boundaries included.
+        let (w, h) = (300usize, 200usize);
+        let coverage: Vec<f32> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f64, (i / w) as f64);
+                let d =
+                    ((x - 150.0).hypot(y - 100.0) - 60.0).min((x - 40.0).hypot(y - 30.0) - 12.0);
+                (0.5 - d).clamp(0.0, 1.0) as f32
+            })
+            .collect();
+        let b = Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap();
+        let whole = b.crossings(0..h);
+        let banded = (0..h.div_ceil(7))
+            .map(|k| b.crossings(k * 7..((k + 1) * 7).min(h)))
+            .fold((0, 0), |a, c| (a.0 + c.0, a.1 + c.1));
+        assert_eq!(whole, banded);
+        assert!(whole.0 > 0 && whole.1 > 0, "{whole:?}");
     }
 
     #[test]
