@@ -10,7 +10,11 @@
 //!    path of that contour (the path flattened to chords within [`FLATTEN_ERROR`] px of
 //!    it, none longer than [`FLATTEN_MAX_CHORD`] px). With the
 //!    default `lsq` fit the limit is the tolerance plus the SVG's approximation bound; a
-//!    metaheuristic fit promises no tolerance, and is held to [`SHAPE_LIMIT`].
+//!    metaheuristic fit promises no tolerance, and is held to [`SHAPE_LIMIT`]. A point
+//!    of a polynomial segment, which is drawn as itself, is at most |P(u) − Q| +
+//!    [`FLATTEN_ERROR`] from the drawn path (u its fitted parameter); it is measured only
+//!    when that bound could make it bad or the contour's worst, which on a page of text
+//!    spares most of the distance queries and finds exactly the same.
 //! 2. **Disagreement**: the drawn shape is rasterized at the pixel centres (even-odd over
 //!    all contours, as the SVG's paths fill) and compared with the thresholded input. A
 //!    pixel where they disagree and whose centre lies more than [`SHAPE_LIMIT`] (1 px, or
@@ -267,6 +271,50 @@ impl SegmentRuns {
     }
 }
 
+/// The largest deviation of `deviation` (one per data point of a closed contour) and
+/// the points beyond `limit` that are local maxima of it.
+fn worst_and_bad(deviation: &[f64], limit: f64) -> (f64, Vec<usize>) {
+    let n = deviation.len();
+    let mut worst: f64 = 0.0;
+    let mut bad = Vec::new();
+    for k in 0..n {
+        let d = deviation[k];
+        worst = worst.max(d);
+        if d > limit && d >= deviation[(k + n - 1) % n] && d >= deviation[(k + 1) % n] {
+            bad.push(k);
+        }
+    }
+    (worst, bad)
+}
+
+/// For every data point of `contour`, a bound of its distance from the contour's drawn
+/// path, or infinity: a polynomial segment is drawn as itself, so a point is at most
+/// |P(u) − Q| from it (u the point's parameter), plus [`FLATTEN_ERROR`] for the chords
+/// that stand for the curve and the single-precision rounding of their ends. A rational
+/// segment's drawing is within its bound only as far as samples tell, so its points get
+/// no bound and are measured.
+fn deviation_bounds(contour: &FittedContour) -> Vec<f64> {
+    let n = contour.points.len();
+    let mut bound = vec![f64::INFINITY; n];
+    for segment in &contour.segments {
+        if !segment.curve.is_polynomial() || segment.params.len() != segment.point_count {
+            continue;
+        }
+        for (j, &u) in segment.params.iter().enumerate() {
+            let k = (segment.start + j) % n.max(1);
+            let q = contour.points[k];
+            let p = segment.curve.eval(u);
+            // f32 keeps 24 bits: a vertex moves by at most 2⁻²⁴ of its largest coordinate.
+            let rounding = 2.0 * f64::from(f32::EPSILON) * (q.x.abs().max(q.y.abs()) + 1.0);
+            let b = p.distance(q) + FLATTEN_ERROR + rounding;
+            if b.is_finite() {
+                bound[k] = bound[k].min(b);
+            }
+        }
+    }
+    bound
+}
+
 /// The first column after `col` whose centre lies at or beyond the crossing `x` (at most
 /// `w`), where `x` lies beyond `col`'s centre.
 fn run_end(col: usize, x: f64, w: usize) -> usize {
@@ -365,25 +413,44 @@ pub(crate) fn check_again(
             Some((d, _)) => d,
             None => distance_to_closed_polyline(p, &polylines[i]),
         };
-        let deviation: Vec<f64> = if parallel && c.points.len() >= PARALLEL_POINTS {
-            c.points.par_iter().map(at).collect()
-        } else {
-            c.points.iter().map(at).collect()
+        let big = parallel && c.points.len() >= PARALLEL_POINTS;
+        // A bound of every point's distance from the segment it was fitted to, where the
+        // fit tells one: only the points whose bound could make them the worst or bad
+        // are measured on the drawn path.
+        let drawn_as_fitted = merged.get(i).is_none_or(Vec::is_empty);
+        let bound = drawn_as_fitted.then(|| deviation_bounds(c));
+        let Some(bound) = bound else {
+            let deviation: Vec<f64> = if big {
+                c.points.par_iter().map(at).collect()
+            } else {
+                c.points.iter().map(at).collect()
+            };
+            return worst_and_bad(&deviation, limits.deviation);
         };
-        let n = deviation.len();
-        let mut worst: f64 = 0.0;
-        let mut bad = Vec::new();
-        for k in 0..n {
-            let d = deviation[k];
-            worst = worst.max(d);
-            if d > limits.deviation
-                && d >= deviation[(k + n - 1) % n]
-                && d >= deviation[(k + 1) % n]
-            {
-                bad.push(k);
+        // The largest bound's point first: its distance is a floor of the worst, and a
+        // point whose bound is below both that floor and the limit is neither the worst
+        // nor bad.
+        let first = (0..bound.len()).fold(0, |m, k| if bound[k] > bound[m] { k } else { m });
+        let floor = if bound.is_empty() {
+            0.0
+        } else {
+            at(&c.points[first])
+        };
+        let needed = floor.min(limits.deviation);
+        let measure = |(k, p): (usize, &Point)| {
+            if bound[k] > needed {
+                at(p)
+            } else {
+                // Not measured: below `needed`, so below every distance that decides.
+                bound[k]
             }
-        }
-        (worst, bad)
+        };
+        let deviation: Vec<f64> = if big {
+            c.points.par_iter().enumerate().map(measure).collect()
+        } else {
+            c.points.iter().enumerate().map(measure).collect()
+        };
+        worst_and_bad(&deviation, limits.deviation)
     };
     let per_contour: Vec<(f64, Vec<usize>)> = if parallel {
         contours.par_iter().enumerate().map(deviation_of).collect()
@@ -889,6 +956,69 @@ mod tests {
         assert!(!full.bad_points[left].is_empty());
         assert!(full.regions.len() >= 2, "{}", full.regions.len());
         assert_eq!(summary(&again), summary(&full));
+    }
+
+    /// The bounds that spare the check most distance queries are bounds: every data
+    /// point of a traced shape is no farther from its drawn path than its bound, and the
+    /// check finds the same worst deviations and bad points as measuring every point,
+    /// also where a contour was moved off its data.
+    #[test]
+    fn deviation_bounds_hold_and_leave_the_findings_unchanged() {
+        let (w, h) = (96u32, 64u32);
+        let cov = (0..w * h)
+            .map(|i| {
+                let (x, y) = (f64::from(i % w) + 0.5, f64::from(i / w) + 0.5);
+                // A disk and a rounded square: curved and straight runs, with corners.
+                let disk = 12.5 - (x - 24.0).hypot(y - 32.0);
+                let square = 11.0 - (x - 68.0).abs().max((y - 30.0).abs());
+                (disk.max(square) + 0.5).clamp(0.0, 1.0) as f32
+            })
+            .collect();
+        let bitmap = Bitmap::from_coverage(w, h, cov, None).unwrap();
+        let config = crate::Config {
+            check: false,
+            timings: false,
+            ..crate::Config::default()
+        };
+        let mut contours = crate::trace_bitmap(&bitmap, &config).unwrap().contours;
+        assert_eq!(contours.len(), 2);
+        let limits = Limits {
+            deviation: 0.325,
+            region: 2.0,
+            bound: config.lsq_options().export_bound,
+        };
+        for round in 0..2 {
+            if round == 1 {
+                // One segment of each contour pushed off its data by 1 px.
+                for c in &mut contours {
+                    for p in &mut c.segments[1].curve.points {
+                        p.x += 1.0;
+                        p.y += 1.0;
+                    }
+                }
+            }
+            let lines = flatten(&contours, &[], limits.bound);
+            let findings = check(&bitmap, &contours, &[], limits, &HashSet::new());
+            let mut polynomial = 0;
+            for (i, c) in contours.iter().enumerate() {
+                let line = &lines[i].0;
+                let exact: Vec<f64> = c
+                    .points
+                    .iter()
+                    .map(|&p| distance_to_closed_polyline(p, line))
+                    .collect();
+                let bounds = deviation_bounds(c);
+                for (k, (&d, &b)) in exact.iter().zip(&bounds).enumerate() {
+                    assert!(d <= b, "round {round}, contour {i}, point {k}: {d} > {b}");
+                    polynomial += usize::from(b.is_finite());
+                }
+                let (worst, bad) = worst_and_bad(&exact, limits.deviation);
+                assert_eq!(findings.worst[i], worst, "round {round}, contour {i}");
+                assert_eq!(findings.bad_points[i], bad, "round {round}, contour {i}");
+                assert_eq!(bad.is_empty(), round == 0, "round {round}, contour {i}");
+            }
+            assert!(polynomial > 0);
+        }
     }
 
     /// The flattening of random cubics (straight, gently and sharply bent, up to 400 px
