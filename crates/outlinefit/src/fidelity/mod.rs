@@ -874,6 +874,23 @@ mod tests {
         )
     }
 
+    /// The contours of `bitmap` traced with the defaults but without the check, and the
+    /// default limits of the check.
+    fn traced_unchecked(bitmap: &Bitmap) -> (Vec<FittedContour>, Limits) {
+        let config = crate::Config {
+            check: false,
+            timings: false,
+            ..crate::Config::default()
+        };
+        let contours = crate::trace_bitmap(bitmap, &config).unwrap().contours;
+        let limits = Limits {
+            deviation: 0.325,
+            region: 2.0,
+            bound: config.lsq_options().export_bound,
+        };
+        (contours, limits)
+    }
+
     /// A check after a repair, which looks again only around the changed contours, finds
     /// exactly what a full check of the same contours finds: after a contour is dropped
     /// (a lost shape: a region), and then after another one is moved 3 px (its points
@@ -900,18 +917,8 @@ mod tests {
             })
             .collect();
         let bitmap = Bitmap::from_coverage(w, h, cov, None).unwrap();
-        let config = crate::Config {
-            check: false,
-            timings: false,
-            ..crate::Config::default()
-        };
-        let base = crate::trace_bitmap(&bitmap, &config).unwrap().contours;
+        let (base, limits) = traced_unchecked(&bitmap);
         assert_eq!(base.len(), 3);
-        let limits = Limits {
-            deviation: 0.325,
-            region: 2.0,
-            bound: config.lsq_options().export_bound,
-        };
         let none = HashSet::new();
         let first = check(&bitmap, &base, &[], limits, &none);
         assert!(first.held());
@@ -975,18 +982,8 @@ mod tests {
             })
             .collect();
         let bitmap = Bitmap::from_coverage(w, h, cov, None).unwrap();
-        let config = crate::Config {
-            check: false,
-            timings: false,
-            ..crate::Config::default()
-        };
-        let mut contours = crate::trace_bitmap(&bitmap, &config).unwrap().contours;
+        let (mut contours, limits) = traced_unchecked(&bitmap);
         assert_eq!(contours.len(), 2);
-        let limits = Limits {
-            deviation: 0.325,
-            region: 2.0,
-            bound: config.lsq_options().export_bound,
-        };
         for round in 0..2 {
             if round == 1 {
                 // One segment of each contour pushed off its data by 1 px.
