@@ -137,7 +137,7 @@ fn svg_to_stdout_matches_svg_file() {
         .unwrap();
     assert!(b.status.success());
     assert_eq!(std::fs::read(&file).unwrap(), b.stdout);
-    assert!(String::from_utf8_lossy(&b.stdout).contains("viewBox=\"0 0 60 63\""));
+    assert!(String::from_utf8_lossy(&b.stdout).contains("viewBox=\"0 0 6000 6300\""));
 }
 
 fn batch(input: &Path, out: &Path, jobs: &str, extra: &[&str]) -> Output {

@@ -360,30 +360,35 @@ fn sizes_colours_and_stroke_only_are_written_as_asked() {
     };
     let plain = read("plain.svg", &[]);
     assert!(plain.starts_with(
-        "<svg height=\"150\" viewBox=\"0 0 200 150\" width=\"200\" xmlns=\"http://www.w3.org/2000/svg\">"
+        "<svg height=\"150\" viewBox=\"0 0 20000 15000\" width=\"200\" xmlns=\"http://www.w3.org/2000/svg\">"
     ));
-    // 200 px at 300 dpi = 16.9333 mm; 150 px = 12.7 mm. The viewBox stays in pixels.
+    // 200 px at 300 dpi = 16.9333 mm; 150 px = 12.7 mm. The viewBox stays in hundredths
+    // of a pixel.
     let mm = read("mm.svg", &["--unit", "mm", "--dpi", "300"]);
     assert!(
-        mm.starts_with("<svg height=\"12.7mm\" viewBox=\"0 0 200 150\" width=\"16.9333mm\""),
+        mm.starts_with("<svg height=\"12.7mm\" viewBox=\"0 0 20000 15000\" width=\"16.9333mm\""),
         "{}",
         &mm[..120]
     );
     let scaled = read("scaled.svg", &["--scale", "2.5"]);
     assert!(scaled.contains("height=\"375\"") && scaled.contains("width=\"500\""));
     // The paths are the same whatever the size.
-    let paths = |s: &str| s[s.find("<path").unwrap()..].to_string();
+    let paths = |s: &str| s[s.find("<g").unwrap()..].to_string();
     assert_eq!(paths(&plain), paths(&mm));
     assert_eq!(paths(&plain), paths(&scaled));
 
     let coloured = read("c.svg", &["-C", "#ff8000"]);
-    assert_eq!(coloured.matches("fill=\"#ff8000\"").count(), 3);
+    // One group carries the paint of every path.
+    assert_eq!(coloured.matches("fill=\"#ff8000\"").count(), 1);
+    assert_eq!(coloured.matches("<path").count(), 3);
     let eps = read("c.eps", &["-C", "ff8000"]);
     assert!(eps.contains("\n1 0.502 0 setrgbcolor\n"), "{eps}");
 
     let stroked = read("s.svg", &["--stroke-only", "-C", "#f00"]);
-    assert_eq!(stroked.matches("fill=\"none\"").count(), 3);
-    assert_eq!(stroked.matches("stroke=\"#ff0000\"").count(), 3);
+    assert_eq!(stroked.matches("fill=\"none\"").count(), 1);
+    assert_eq!(stroked.matches("stroke=\"#ff0000\"").count(), 1);
+    // One pixel in hundredths of a pixel.
+    assert_eq!(stroked.matches("stroke-width=\"100\"").count(), 1);
     assert!(!stroked.contains("evenodd"));
     // Drawn as lines, the shapes cover a band along their outlines only: far less than
     // the filled area, far more than nothing.

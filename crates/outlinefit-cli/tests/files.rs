@@ -36,9 +36,21 @@ fn run(cmd: &mut Command) -> (i32, String, String) {
     )
 }
 
-/// Bounding box (min x, min y, max x, max y) of the points and control points of the first
-/// SVG path.
+/// Bounding box (min x, min y, max x, max y), in pixels, of the points and control points
+/// of the first SVG path: user units scaled by the document's width over its `viewBox`
+/// width.
 fn path_box(svg: &str) -> [f64; 4] {
+    let attribute = |name: &str| {
+        let start = svg.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        &svg[start..start + svg[start..].find('"').unwrap()]
+    };
+    let view_width: f64 = attribute("viewBox")
+        .split(' ')
+        .nth(2)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let k = attribute("width").parse::<f64>().unwrap() / view_width;
     use svgtypes::SimplePathSegment as S;
     let d = svg
         .split(" d=\"")
@@ -63,6 +75,7 @@ fn path_box(svg: &str) -> [f64; 4] {
             S::ClosePath => Vec::new(),
         };
         for (x, y) in points {
+            let (x, y) = (x * k, y * k);
             b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
         }
     }

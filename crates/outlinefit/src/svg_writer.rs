@@ -247,6 +247,17 @@ impl PathData {
     }
 }
 
+/// How compact path data writes its numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PathUnits {
+    /// In the picture's units, with the grid's decimals: `12.34` on the grid of 2.
+    Picture,
+    /// In grid units, as whole numbers: `1234` for 12.34 on the grid of 2 decimals, one
+    /// character shorter per number. The document's `viewBox` must be given in grid units
+    /// too (10^precision times the picture's), as potrace's scaled coordinates are.
+    Grid,
+}
+
 /// Path data on the grid of a fixed number of decimals, written compactly (as potrace and
 /// SVG optimisers do): points are given in grid units (`10^-precision`), commands are
 /// relative, a command letter is not repeated for consecutive commands of the same kind,
@@ -254,9 +265,10 @@ impl PathData {
 /// sign or before a `.` that follows a number with a `.`.
 pub(crate) struct CompactPath {
     out: String,
-    /// Grid units per user unit: 10^precision.
+    /// Grid units per picture unit: 10^precision.
     scale: f64,
-    precision: usize,
+    /// Decimals written: the grid's in picture units, none in grid units.
+    decimals: usize,
     /// The last command letter written.
     last_command: char,
     /// Whether the last thing written is a number containing a `.` (a following `.5`
@@ -272,20 +284,24 @@ enum Last {
 }
 
 impl CompactPath {
-    /// Empty path data on the grid of `precision` decimals (at most [`MAX_PRECISION`]).
-    pub(crate) fn new(precision: usize) -> CompactPath {
+    /// Empty path data on the grid of `precision` decimals (at most [`MAX_PRECISION`]),
+    /// its numbers written in `units`.
+    pub(crate) fn new(precision: usize, units: PathUnits) -> CompactPath {
         let precision = precision.min(MAX_PRECISION);
         let scale = 10f64.powi(precision as i32);
         CompactPath {
             out: String::new(),
             scale,
-            precision,
+            decimals: match units {
+                PathUnits::Picture => precision,
+                PathUnits::Grid => 0,
+            },
             last_command: ' ',
             last: Last::Command,
         }
     }
 
-    /// Half a grid unit, in user units: the most rounding moves a coordinate.
+    /// Half a grid unit, in picture units: the most rounding moves a coordinate.
     pub(crate) fn half_unit(&self) -> f64 {
         0.5 / self.scale
     }
@@ -323,9 +339,9 @@ impl CompactPath {
         }
     }
 
-    /// Writes `units` grid units as a decimal number.
+    /// Writes `units` grid units: as a decimal number in picture units, or as itself.
     pub(crate) fn number(&mut self, units: i128) {
-        let p = self.precision;
+        let p = self.decimals;
         let digits = format!("{:0width$}", units.unsigned_abs(), width = p + 1);
         let (int, frac) = digits.split_at(digits.len() - p);
         let frac = frac.trim_end_matches('0');
@@ -399,13 +415,22 @@ mod tests {
 
     #[test]
     fn compact_numbers_keep_their_separators() {
-        let mut w = CompactPath::new(2);
+        let numbers = [1250, -5, 50, 7, -120, 0, 3, 100];
+        let mut w = CompactPath::new(2, PathUnits::Picture);
         w.command('M');
-        for units in [1250, -5, 50, 7, -120, 0, 3, 100] {
+        for units in numbers {
             w.number(units);
         }
         assert_eq!(w.finish(), "M12.5-.05.5.07-1.2 0 .03 1");
-        let mut w = CompactPath::new(0);
+        // In grid units the same numbers are whole, and only a minus sign saves a space.
+        let mut w = CompactPath::new(2, PathUnits::Grid);
+        assert_eq!(w.half_unit(), 0.005);
+        w.command('M');
+        for units in numbers {
+            w.number(units);
+        }
+        assert_eq!(w.finish(), "M1250-5 50 7-120 0 3 100");
+        let mut w = CompactPath::new(0, PathUnits::Picture);
         w.command('c');
         w.number(-3);
         w.number(4);

@@ -378,7 +378,9 @@ fn black_on_white_in_colour_matches_the_one_colour_trace() {
     let start = svg.find(r##"<g fill="#000000""##).expect("a black layer");
     let end = start + svg[start..].find("</g>").unwrap() + 4;
     let black = format!(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">{}</svg>"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {} {}">{}</svg>"#,
+        100 * w,
+        100 * h,
         &svg[start..end]
     );
     let a = common::render_svg_coverage_scaled(&black, 4 * w, 4 * h, 4.0);
@@ -419,7 +421,8 @@ fn a_one_pixel_image_is_its_square_and_a_transparent_one_draws_nothing() {
     let t = trace_colour(&one, &config(), &options(Layout::Stacked)).unwrap();
     let svg = colour_svg(&t, &ExportOptions::for_tolerance(0.3));
     assert!(
-        svg.contains(r#"d="M0 0h1v1h-1z""#) || svg.contains(r#"d="M1 0v1h-1v-1h1z""#),
+        svg.contains(r#"d="M0 0h100v100h-100z""#)
+            || svg.contains(r#"d="M100 0v100h-100v-100h100z""#),
         "{svg}"
     );
     assert!(t.fidelity.held);

@@ -7,9 +7,9 @@
 use super::result::ColourTrace;
 use crate::curve::CubicBez;
 use crate::export::options::ExportOptions;
-use crate::export::svg::{pieces_path_data, pixel_document, sized_document};
+use crate::export::svg::{grid_per_pixel, pieces_path_data, scaled_document};
 use crate::geom::Point;
-use crate::svg_writer::{number, Group, Path};
+use crate::svg_writer::{number, Group, Path, PathUnits};
 
 /// The cubics that draw boundary `b` of `trace`, forwards or backwards.
 pub(crate) fn boundary_cubics(
@@ -96,11 +96,8 @@ fn same_line(a: &CubicBez, b: &CubicBez) -> bool {
 pub fn colour_svg(trace: &ColourTrace, opts: &ExportOptions) -> String {
     let precision = opts.effective_precision();
     let bound = opts.effective_bound();
-    let mut doc = if opts.size == Default::default() {
-        pixel_document(trace.width, trace.height, 1)
-    } else {
-        sized_document(trace.width, trace.height, opts)
-    };
+    let grid = grid_per_pixel(precision);
+    let mut doc = scaled_document(trace.width, trace.height, opts, grid);
     let mut used_ids = std::collections::HashSet::new();
     for layer in &trace.layers {
         let swatch = &trace.palette[layer.colour];
@@ -120,7 +117,7 @@ pub fn colour_svg(trace: &ColourTrace, opts: &ExportOptions) -> String {
                 ));
                 continue;
             }
-            data.push_str(&pieces_path_data(&pieces, precision));
+            data.push_str(&pieces_path_data(&pieces, precision, PathUnits::Grid));
         }
         if data.is_empty() {
             continue;
@@ -137,7 +134,10 @@ pub fn colour_svg(trace: &ColourTrace, opts: &ExportOptions) -> String {
             Path::new()
                 .set("fill", "none")
                 .set("stroke", hex.as_str())
-                .set("stroke-width", crate::export::svg::STROKE_WIDTH)
+                .set(
+                    "stroke-width",
+                    number(crate::export::svg::STROKE_WIDTH * grid, 0),
+                )
                 .set("d", data)
         } else {
             Path::new().set("fill-rule", "evenodd").set("d", data)

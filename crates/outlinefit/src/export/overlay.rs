@@ -34,7 +34,8 @@ use crate::curve::wang_ball::envelope::envelope_band;
 use crate::fit::JointKind;
 use crate::geom::Point;
 use crate::svg_writer::{
-    comment, number, push_number, Circle, Group, Image, PathData, Rectangle, Text, MAX_PRECISION,
+    comment, number, push_number, Circle, Group, Image, PathData, PathUnits, Rectangle, Text,
+    MAX_PRECISION,
 };
 use crate::trace::TraceResult;
 use base64::Engine as _;
@@ -200,7 +201,7 @@ pub fn to_overlay_svg(
         .set("stroke-width", size(1.5 * unit))
         .set("stroke-linejoin", "round");
     for (i, c) in result.contours.iter().enumerate() {
-        match contour_path_data(c, result.merged_of(i), bound, precision) {
+        match contour_path_data(c, result.merged_of(i), bound, precision, PathUnits::Picture) {
             ContourPath::Data(d) => outline = outline.add(SvgPath::new().set("d", d)),
             ContourPath::Empty => {}
             ContourPath::NonFinite => {

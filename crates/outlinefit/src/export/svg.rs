@@ -2,7 +2,8 @@
 //!
 //! One `<path>` per shape: an outer border together with every hole whose `parent` is that
 //! border, filled with `fill-rule="evenodd"` (outer borders and holes run in opposite
-//! directions, so `nonzero` would work too; `evenodd` does not depend on it). Each closed
+//! directions, so `nonzero` would work too; `evenodd` does not depend on it). All paths are
+//! in one `<g>` that carries the paint, so each path holds only its data. Each closed
 //! contour becomes `M x0 y0`, a relative `c` per polynomial cubic (`l`, `h` or `v` where
 //! the cubic is a straight line), then `z`, in the compact syntax SVG allows (see
 //! `contour_path_data`). Islands inside holes are outer borders of their own and get
@@ -14,13 +15,15 @@
 //! curve is within the bound, and G1 joints stay G1. The exact rational data belongs in the
 //! JSON report.
 //!
-//! The document uses input pixel units (`viewBox="0 0 W H"`, x right, y down) and is
-//! written by `svg_writer`, the writer all pictures share: numbers get fixed
-//! decimals, trailing zeros trimmed, never `-0`, so identical results give byte-identical
-//! files. Points are rounded to `precision` decimals, which moves them by at most half a
-//! unit of the last decimal (0.005 px by default), on top of the approximation bound;
-//! [`ExportOptions::for_tolerance`] picks the fewest decimals that keep this within half the
-//! bound.
+//! The document is shown at the input's size in pixels (x right, y down) and is written by
+//! `svg_writer`, the writer all pictures share, so identical results give byte-identical
+//! files. Points are rounded to `precision` decimals of a pixel, which moves them by at
+//! most half a unit of the last decimal (0.005 px by default), on top of the approximation
+//! bound; [`ExportOptions::for_tolerance`] picks the fewest decimals that keep this within
+//! half the bound. The path data is written in units of that grid, as whole numbers
+//! (`1234` for 12.34 px; [`PathUnits::Grid`]), and the `viewBox` is the image in the same
+//! units (`0 0 100W 100H` with 2 decimals): one character less per number than decimals
+//! in pixel units, about a fifth of a page's bytes.
 //!
 //! Nothing is dropped silently: a contour with non-finite coordinates, or a hole without an
 //! outer border to cut into, is left out with an XML comment saying so (drawn alone, a hole
@@ -34,7 +37,10 @@ use crate::geom::Point;
 use crate::merge::outline::MergedCurve;
 use crate::trace::TraceResult;
 
-use crate::svg_writer::{number, CompactPath, Document, Path};
+use crate::svg_writer::{
+    comment, number, CompactPath, Document, Group, Path, PathUnits, MAX_PRECISION,
+};
+use svg::Node as _;
 
 /// Width of the line of `stroke_only` outlines, in pixels.
 pub(crate) const STROKE_WIDTH: f64 = 1.0;
@@ -44,12 +50,8 @@ pub(crate) const STROKE_WIDTH: f64 = 1.0;
 pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
     let precision = opts.effective_precision();
     let bound = opts.effective_bound();
-    let (width, height) = (result.image.width, result.image.height);
-    let mut doc = if opts.size == Default::default() {
-        pixel_document(width, height, 1)
-    } else {
-        sized_document(width, height, opts)
-    };
+    let grid = grid_per_pixel(precision);
+    let mut doc = scaled_document(result.image.width, result.image.height, opts, grid);
     let contours = &result.contours;
     let (holes_of, orphans) = holes_of(result);
     for i in orphans {
@@ -57,53 +59,69 @@ pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
             "contour {i} skipped: a hole without an outer border"
         ));
     }
+    // The paint is the group's, so that each path carries only its data.
     let fill = opts.fill.to_string();
+    let mut group = if opts.stroke_only {
+        Group::new()
+            .set("fill", "none")
+            .set("stroke", fill.as_str())
+            .set("stroke-width", number(STROKE_WIDTH * grid, 0))
+    } else {
+        Group::new()
+            .set("fill", fill.as_str())
+            .set("fill-rule", "evenodd")
+    };
     for (i, c) in contours.iter().enumerate() {
         if c.is_hole {
             continue;
         }
         let mut data = String::new();
         for k in std::iter::once(i).chain(holes_of[i].iter().copied()) {
-            match contour_path_data(&contours[k], result.merged_of(k), bound, precision) {
+            let merged = result.merged_of(k);
+            match contour_path_data(&contours[k], merged, bound, precision, PathUnits::Grid) {
                 ContourPath::Data(d) => data.push_str(&d),
                 ContourPath::Empty => {}
                 ContourPath::NonFinite => {
-                    doc.comment(&format!("contour {k} skipped: non-finite coordinates"));
+                    group.append(comment(&format!(
+                        "contour {k} skipped: non-finite coordinates"
+                    )));
                 }
             }
         }
-        if data.is_empty() {
-            continue;
+        if !data.is_empty() {
+            group.append(Path::new().set("d", data));
         }
-        let path = if opts.stroke_only {
-            Path::new()
-                .set("fill", "none")
-                .set("stroke", fill.as_str())
-                .set("stroke-width", STROKE_WIDTH)
-                .set("d", data)
-        } else {
-            Path::new()
-                .set("fill", fill.as_str())
-                .set("fill-rule", "evenodd")
-                .set("d", data)
-        };
-        doc.add(path);
     }
+    doc.add(group);
     doc.finish()
 }
 
-/// A document in pixel units (`viewBox="0 0 W H"`) whose `width` and `height` are the
-/// options' size in its unit (`12.7mm`; plain numbers for pixels).
-pub(crate) fn sized_document(width: u32, height: u32, opts: &ExportOptions) -> Document {
+/// Grid units per pixel of path data written on the grid of `precision` decimals in grid
+/// units ([`PathUnits::Grid`]): 10^precision.
+pub(crate) fn grid_per_pixel(precision: usize) -> f64 {
+    10f64.powi(precision.min(MAX_PRECISION) as i32)
+}
+
+/// A document of `width` × `height` pixels whose user unit is `1 / scale` px
+/// (`viewBox="0 0 W·scale H·scale"`), shown at the options' size in its unit (`12.7mm`;
+/// plain numbers for pixels).
+pub(crate) fn scaled_document(
+    width: u32,
+    height: u32,
+    opts: &ExportOptions,
+    scale: f64,
+) -> Document {
     let (w, h) = (f64::from(width), f64::from(height));
+    let doc = Document::new(w, h, [0.0, 0.0, w * scale, h * scale], 0);
+    if opts.size == Default::default() {
+        return doc;
+    }
     let unit = opts.size.unit;
     let k = opts.size.unit_per_pixel();
     let precision = opts.precision_in(unit);
     let suffix = if unit == Unit::Px { "" } else { unit.name() };
     let length = |x: f64| format!("{}{suffix}", number(x * k, precision));
-    Document::new(w, h, [0.0, 0.0, w, h], 0)
-        .set("width", length(w))
-        .set("height", length(h))
+    doc.set("width", length(w)).set("height", length(h))
 }
 
 /// A document in input pixel units (`viewBox="0 0 W H"`), shown `zoom` times larger.
@@ -135,6 +153,7 @@ pub(crate) fn contour_path_data(
     merged: &[MergedCurve],
     bound: f64,
     precision: usize,
+    units: PathUnits,
 ) -> ContourPath {
     if contour.segments.is_empty() {
         return ContourPath::Empty;
@@ -142,13 +161,17 @@ pub(crate) fn contour_path_data(
     let Some(pieces) = finite_pieces(contour, merged, bound) else {
         return ContourPath::NonFinite;
     };
-    ContourPath::Data(pieces_path_data(&pieces, precision))
+    ContourPath::Data(pieces_path_data(&pieces, precision, units))
 }
 
 /// Path data of one closed loop of pieces, each a start point and the cubics that follow
 /// it (see [`contour_path_data`]).
-pub(crate) fn pieces_path_data(pieces: &[(Point, Vec<CubicBez>)], precision: usize) -> String {
-    let mut w = CompactPath::new(precision);
+pub(crate) fn pieces_path_data(
+    pieces: &[(Point, Vec<CubicBez>)],
+    precision: usize,
+    units: PathUnits,
+) -> String {
+    let mut w = CompactPath::new(precision, units);
     let mut pen = w.grid(pieces[0].0);
     w.command('M');
     w.number(pen.0);
@@ -291,12 +314,27 @@ pub(crate) mod tests {
             .collect()
     }
 
+    /// User units per pixel of a document: its `viewBox` width over its `width`.
+    fn units_per_pixel(svg: &str) -> f64 {
+        let attribute = |name: &str| {
+            let start = svg.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+            svg[start..start + svg[start..].find('"').unwrap()].to_string()
+        };
+        let view_box: Vec<f64> = attribute("viewBox")
+            .split(' ')
+            .map(|x| x.parse().unwrap())
+            .collect();
+        view_box[2] / attribute("width").parse::<f64>().unwrap()
+    }
+
     /// Path data as absolute (command, numbers) pairs: `M`, `L`, `C` and `Z`, read by
-    /// the parser resvg uses.
-    fn parse_path(d: &str) -> Vec<(char, Vec<f64>)> {
+    /// the parser resvg uses, with coordinates in pixels (user units divided by `k`, the
+    /// document's [`units_per_pixel`]).
+    fn parse_path(d: &str, k: f64) -> Vec<(char, Vec<f64>)> {
         use svgtypes::SimplePathSegment as S;
         svgtypes::SimplifyingPathParser::from(d)
-            .map(|s| match s.unwrap() {
+            .map(|s| s.unwrap())
+            .map(|s| match s {
                 S::MoveTo { x, y } => ('M', vec![x, y]),
                 S::LineTo { x, y } => ('L', vec![x, y]),
                 S::CurveTo {
@@ -310,6 +348,7 @@ pub(crate) mod tests {
                 S::Quadratic { .. } => panic!("no quadratics are written"),
                 S::ClosePath => ('Z', Vec::new()),
             })
+            .map(|(c, v)| (c, v.into_iter().map(|x| x / k).collect()))
             .collect()
     }
 
@@ -319,7 +358,14 @@ pub(crate) mod tests {
         let svg = to_svg(&result(64, 48, vec![c.clone()]), &ExportOptions::default());
         let data = path_data(&svg);
         assert_eq!(data.len(), 1);
-        let cmds = parse_path(&data[0]);
+        // Whole numbers of hundredths of a pixel.
+        assert!(
+            svg.contains("viewBox=\"0 0 6400 4800\" width=\"64\""),
+            "{svg}"
+        );
+        assert_eq!(units_per_pixel(&svg), 100.0);
+        assert!(!data[0].contains('.'), "{}", data[0]);
+        let cmds = parse_path(&data[0], 100.0);
         // M, one C per quarter (a quarter circle of radius 12 needs one cubic), Z.
         let letters: String = cmds.iter().map(|c| c.0).collect();
         assert_eq!(letters, "MCCCCZ");
@@ -369,15 +415,18 @@ pub(crate) mod tests {
             &ExportOptions::default(),
         );
         assert!(svg.starts_with(
-            "<svg height=\"64\" viewBox=\"0 0 64 64\" width=\"64\" xmlns=\"http://www.w3.org/2000/svg\">"
+            "<svg height=\"64\" viewBox=\"0 0 6400 6400\" width=\"64\" xmlns=\"http://www.w3.org/2000/svg\">\n\
+             <g fill=\"#000000\" fill-rule=\"evenodd\">\n<path d=\"M"
         ));
-        assert!(svg.ends_with("</svg>\n"));
+        assert!(svg.ends_with("</g>\n</svg>\n"));
         let data = path_data(&svg);
         assert_eq!(data.len(), 2, "{svg}");
         assert_eq!(data[0].matches('M').count(), 2);
         assert_eq!(data[0].matches('z').count(), 2);
         assert_eq!(data[1].matches('M').count(), 1);
-        assert_eq!(svg.matches("fill-rule=\"evenodd\"").count(), 2);
+        // The paint is the group's alone.
+        assert_eq!(svg.matches("fill-rule=\"evenodd\"").count(), 1);
+        assert_eq!(svg.matches("fill=").count(), 1);
         assert!(!svg.contains("<!--"));
     }
 
@@ -396,8 +445,10 @@ pub(crate) mod tests {
         let a = to_svg(&r, &opts);
         assert_eq!(a, to_svg(&r, &opts));
         assert!(a.contains("fill=\"#12abff\""));
+        assert_eq!(units_per_pixel(&a), 10.0);
         for d in path_data(&a) {
-            for (_, numbers) in parse_path(&d) {
+            assert!(!d.contains('.'), "{d}");
+            for (_, numbers) in parse_path(&d, 10.0) {
                 for x in numbers {
                     // One decimal at most.
                     assert!(((x * 10.0).round() - x * 10.0).abs() < 1e-9, "{x}");
@@ -431,7 +482,7 @@ pub(crate) mod tests {
             s.curve.weights = [1.0, 1.0];
         }
         let svg = to_svg(&result(64, 64, vec![c.clone()]), &ExportOptions::default());
-        let cmds = parse_path(&path_data(&svg)[0]);
+        let cmds = parse_path(&path_data(&svg)[0], units_per_pixel(&svg));
         assert_eq!(cmds.len(), 6);
         for (cmd, s) in cmds[1..5].iter().zip(&c.segments) {
             let p = &s.curve.points;
@@ -512,7 +563,7 @@ pub(crate) mod tests {
         let opts = ExportOptions::default();
         assert_eq!(opts.precision, 2);
         let svg = to_svg(&result(1000, 800, vec![c.clone()]), &opts);
-        let cmds = parse_path(&path_data(&svg)[0]);
+        let cmds = parse_path(&path_data(&svg)[0], units_per_pixel(&svg));
         assert_eq!(cmds.len(), n + 2);
         for (k, cmd) in cmds[1..=n].iter().enumerate() {
             assert_eq!(cmd.0, 'C');
@@ -559,7 +610,7 @@ pub(crate) mod tests {
         let svg = to_svg(&result(64, 64, vec![c]), &ExportOptions::default());
         let d = &path_data(&svg)[0];
         assert_eq!(
-            d, "M10 10h40c.1 9 .1 21 0 30l-37.5 3.25-2.5-33.25z",
+            d, "M1000 1000h4000c10 900 10 2100 0 3000l-3750 325-250-3325z",
             "{svg}"
         );
     }
