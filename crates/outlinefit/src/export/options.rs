@@ -299,7 +299,8 @@ pub struct ExportOptions {
     pub bound: f64,
     /// Decimals of every coordinate in pixels, at most [`MAX_PRECISION`]. Default: 2
     /// (0.01 px), the fewest whose rounding (half a unit) stays within half the default
-    /// bound. Formats that write another unit keep the same resolution in it.
+    /// bound. Formats that write another unit keep the same resolution in it; SVG writes
+    /// whole numbers of 10^-precision px, with its `viewBox` in the same unit.
     pub precision: usize,
     /// The fill colour. Default: black.
     pub fill: Rgb,
