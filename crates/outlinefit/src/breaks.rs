@@ -242,6 +242,8 @@ pub(crate) fn find_breaks(
     opts: &BreakOptions,
     pixels: Option<&Bitmap>,
 ) -> SegmentedContour {
+    // Bilevel pixels show no wedge: their corners are sharpened without evidence.
+    let grey = pixels.filter(|p| !p.is_bilevel());
     let n0 = contour.points.len();
     if n0 < 3 {
         return build_segmented(contour.points.clone(), contour, Vec::new());
@@ -316,12 +318,10 @@ pub(crate) fn find_breaks(
                 continue;
             }
             if let (true, Some(x)) = (straight, line_intersection(a0, a1, b0, b1)) {
-                let evident = || {
-                    let pixels = pixels.filter(|p| !p.is_bilevel());
-                    x.distance(src[i]) <= UNCHECKED_CORNER_MOVE
-                        || pixels.is_none_or(|p| wedge_has_ink(p, src[i], x, a0, b1))
-                };
-                if x.distance(src[i]) < h && evident() {
+                let moved = x.distance(src[i]);
+                let evident = moved <= UNCHECKED_CORNER_MOVE
+                    || grey.is_none_or(|p| wedge_has_ink(p, src[i], x, a0, b1));
+                if moved < h && evident {
                     skip_core(&mut skip);
                     replace[i] = Some(x);
                 }

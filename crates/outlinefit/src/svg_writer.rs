@@ -247,6 +247,13 @@ impl PathData {
     }
 }
 
+/// Grid units per picture unit on the grid of `precision` decimals (at most
+/// [`MAX_PRECISION`]): 10^precision. A document whose path data is written in grid units
+/// ([`PathUnits::Grid`]) scales its `viewBox` by this.
+pub(crate) fn grid_per_unit(precision: usize) -> f64 {
+    10f64.powi(precision.min(MAX_PRECISION) as i32)
+}
+
 /// How compact path data writes its numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum PathUnits {
@@ -288,10 +295,9 @@ impl CompactPath {
     /// its numbers written in `units`.
     pub(crate) fn new(precision: usize, units: PathUnits) -> CompactPath {
         let precision = precision.min(MAX_PRECISION);
-        let scale = 10f64.powi(precision as i32);
         CompactPath {
             out: String::new(),
-            scale,
+            scale: grid_per_unit(precision),
             decimals: match units {
                 PathUnits::Picture => precision,
                 PathUnits::Grid => 0,

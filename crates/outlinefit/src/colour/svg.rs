@@ -7,9 +7,9 @@
 use super::result::ColourTrace;
 use crate::curve::CubicBez;
 use crate::export::options::ExportOptions;
-use crate::export::svg::{grid_per_pixel, pieces_path_data, scaled_document};
+use crate::export::svg::{pieces_path_data, scaled_document};
 use crate::geom::Point;
-use crate::svg_writer::{number, Group, Path, PathUnits};
+use crate::svg_writer::{grid_per_unit, number, Group, Path, PathUnits};
 
 /// The cubics that draw boundary `b` of `trace`, forwards or backwards.
 pub(crate) fn boundary_cubics(
@@ -96,7 +96,7 @@ fn same_line(a: &CubicBez, b: &CubicBez) -> bool {
 pub fn colour_svg(trace: &ColourTrace, opts: &ExportOptions) -> String {
     let precision = opts.effective_precision();
     let bound = opts.effective_bound();
-    let grid = grid_per_pixel(precision);
+    let grid = grid_per_unit(precision);
     let mut doc = scaled_document(trace.width, trace.height, opts, grid);
     let mut used_ids = std::collections::HashSet::new();
     for layer in &trace.layers {

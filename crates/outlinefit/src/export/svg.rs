@@ -38,7 +38,7 @@ use crate::merge::outline::MergedCurve;
 use crate::trace::TraceResult;
 
 use crate::svg_writer::{
-    comment, number, CompactPath, Document, Group, Path, PathUnits, MAX_PRECISION,
+    comment, grid_per_unit, number, CompactPath, Document, Group, Path, PathUnits,
 };
 use svg::Node as _;
 
@@ -50,7 +50,7 @@ pub(crate) const STROKE_WIDTH: f64 = 1.0;
 pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
     let precision = opts.effective_precision();
     let bound = opts.effective_bound();
-    let grid = grid_per_pixel(precision);
+    let grid = grid_per_unit(precision);
     let mut doc = scaled_document(result.image.width, result.image.height, opts, grid);
     let contours = &result.contours;
     let (holes_of, orphans) = holes_of(result);
@@ -94,12 +94,6 @@ pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
     }
     doc.add(group);
     doc.finish()
-}
-
-/// Grid units per pixel of path data written on the grid of `precision` decimals in grid
-/// units ([`PathUnits::Grid`]): 10^precision.
-pub(crate) fn grid_per_pixel(precision: usize) -> f64 {
-    10f64.powi(precision.min(MAX_PRECISION) as i32)
 }
 
 /// A document of `width` × `height` pixels whose user unit is `1 / scale` px

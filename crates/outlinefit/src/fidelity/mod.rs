@@ -438,7 +438,9 @@ pub(crate) fn check_again(
         };
         let needed = floor.min(limits.deviation);
         let measure = |(k, p): (usize, &Point)| {
-            if bound[k] > needed {
+            if k == first && bound[k] > needed {
+                floor
+            } else if bound[k] > needed {
                 at(p)
             } else {
                 // Not measured: below `needed`, so below every distance that decides.

@@ -92,7 +92,6 @@ impl PaperMap {
         let (cols, rows) = (width.div_ceil(block), height.div_ceil(block));
         let mut paper = Vec::with_capacity(cols * rows);
         let mut ink = Vec::with_capacity(cols * rows);
-        let mut row = vec![0.0f32; width];
         // One 256-bin histogram per block of the current row of blocks.
         let mut hist = vec![[0u32; 256]; cols];
         let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
@@ -102,6 +101,8 @@ impl PaperMap {
             Levels::Byte(v, t) => Some((v, std::array::from_fn::<u8, 256, _>(|l| bin(t[l]) as u8))),
             Levels::Word(..) => None,
         };
+        // 16-bit levels read each sampled row whole.
+        let mut row = vec![0.0f32; if byte_bins.is_some() { 0 } else { width }];
         // Every `step`-th pixel of every `step`-th row: 256 or more samples per block, a
         // 64th of a large page's pixels.
         let step = (block / 16).max(1);
