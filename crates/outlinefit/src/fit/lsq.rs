@@ -69,6 +69,13 @@ impl LsqOptions {
 /// [`FitSettings::search_points`]).
 const LSQ_SEARCH_POINTS: usize = 24;
 
+/// A weight search whose curve is still this many tolerances from a point after its
+/// first round of parameter correction stops there, and the piece is split. On the 600 dpi scan of `make_scan.py`, 16 600 of 26 000 searches end
+/// outside the tolerance, a fifth of the trace's processor time; stopping those that are
+/// more than 2 tolerances off after one round changed the page by 4 of 33 588 segments,
+/// and the corpus by under 0.1 % of its segments and area error per subset.
+const RATIONAL_GIVE_UP: f64 = 2.0;
+
 /// A joint while the chain is being built.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct JointSpec {
@@ -215,9 +222,11 @@ pub(super) fn fit_piece(
         return Piece::polynomial(poly, poly_residual);
     }
     // Start from the polynomial fit's feet, which are close to the rational curve's:
-    // one round of parameter correction then does what two do from centripetal ones.
+    // one round of parameter correction then does what two do from centripetal ones. A
+    // search still [`RATIONAL_GIVE_UP`] tolerances off after its first round is dropped.
     let warm = FitSettings {
         reparam_rounds: 1,
+        give_up: Some(RATIONAL_GIVE_UP * opts.tolerance),
         ..search
     };
     let solution = fit_segment_from(buf, start, end, &warm, Some(&poly.params));

@@ -50,6 +50,10 @@ pub struct FitSettings {
     /// so a few dozen points place its minimum close to where all of them do, at a
     /// fraction of the cost on long runs.
     pub search_points: Option<usize>,
+    /// The parameter correction stops early once a point lies farther than this from the
+    /// curve at its foot (px): a fit that far off will be split whatever the remaining
+    /// rounds do, so they are not spent on it. `None` always runs every round.
+    pub give_up: Option<f64>,
 }
 
 impl FitSettings {
@@ -82,6 +86,7 @@ impl FitSettings {
                 Parameterization::Uniform,
             ],
             search_points: None,
+            give_up: None,
         }
     }
 }
@@ -96,6 +101,7 @@ impl Default for FitSettings {
             starts: 1,
             initial: &[Parameterization::Centripetal],
             search_points: None,
+            give_up: None,
         }
     }
 }

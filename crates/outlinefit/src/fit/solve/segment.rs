@@ -114,6 +114,7 @@ pub fn fit_segment_from(
         let mut weights = w0;
         let mut curve;
         let mut round = 0;
+        let mut gave_up = false;
         loop {
             let model = LinearModel::with_scale(points, &params, start, end, scale);
             if !settings.fixed_weights() {
@@ -134,9 +135,18 @@ pub fn fit_segment_from(
             }
             reproject(&curve, points, &mut params);
             round += 1;
+            if let Some(limit) = settings.give_up {
+                if farthest_at(&curve, points, &params) > limit {
+                    gave_up = true;
+                    break;
+                }
+            }
         }
-        // Leave the parameters at the feet of the points, so that residuals are distances.
-        reproject(&curve, points, &mut params);
+        // Leave the parameters at the feet of the points, so that residuals are distances
+        // (a fit that gave up is already there).
+        if !gave_up {
+            reproject(&curve, points, &mut params);
+        }
         if settings.polish_iterations > 0 {
             let model = LinearModel::with_scale(points, &params, start, end, scale);
             let (polished, ev) = polish(&model, curve, &mut params, settings);
@@ -259,6 +269,17 @@ fn bent_straight_segment(
         ],
         [1.0, 1.0],
     )
+}
+
+/// The largest distance between a point and the curve at its parameter.
+fn farthest_at(curve: &RationalCubic, points: &[Point], params: &[f64]) -> f64 {
+    let power = curve.power_form();
+    points
+        .iter()
+        .zip(params)
+        .map(|(q, &u)| (power.eval(u) - *q).length_squared())
+        .fold(0.0, f64::max)
+        .sqrt()
 }
 
 /// Moves every interior parameter to the foot of its point on the curve (local Newton).

@@ -142,3 +142,63 @@ fn three_points_with_a_free_end_give_a_curve_through_them_without_a_loop() {
         assert!(far < 0.5 * chord, "{start:?} {end:?}: {far}");
     }
 }
+
+/// Three periods of a sine: no cubic comes within a pixel of it.
+fn wave() -> Vec<Point> {
+    (0..=90)
+        .map(|i| {
+            let x = i as f64;
+            Point::new(x, 6.0 * (x * 3.0 * std::f64::consts::TAU / 90.0).sin())
+        })
+        .collect()
+}
+
+#[test]
+fn a_fit_that_gives_up_stops_after_its_first_round_of_correction() {
+    let data = wave();
+    let (start, end) = (EndCondition::Free, EndCondition::Free);
+    let base = FitSettings {
+        reparam_rounds: 2,
+        polish_iterations: 0,
+        ..FitSettings::default()
+    };
+    // Far off after the first round: the result is exactly that round's curve, with the
+    // parameters at its feet, as if only one round had been asked for.
+    let gave_up = fit_segment(
+        &data,
+        start,
+        end,
+        &FitSettings {
+            give_up: Some(0.5),
+            ..base
+        },
+    );
+    let one_round = fit_segment(
+        &data,
+        start,
+        end,
+        &FitSettings {
+            reparam_rounds: 0,
+            ..base
+        },
+    );
+    let full = fit_segment(&data, start, end, &base);
+    assert_eq!(gave_up.curve, one_round.curve);
+    assert_eq!(gave_up.params, one_round.params);
+    assert_eq!(gave_up.evaluations, one_round.evaluations);
+    assert!(gave_up.evaluations < full.evaluations);
+    // The curve really is that far off, so giving up was right.
+    assert!(max_dist_to(&gave_up.curve, &data) > 0.5);
+    // A bound the fit never exceeds changes nothing.
+    let never = fit_segment(
+        &data,
+        start,
+        end,
+        &FitSettings {
+            give_up: Some(1e6),
+            ..base
+        },
+    );
+    assert_eq!(never.curve, full.curve);
+    assert_eq!(never.params, full.params);
+}
