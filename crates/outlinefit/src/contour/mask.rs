@@ -258,6 +258,34 @@ fn bit_range(lo: usize, hi: usize) -> u64 {
     below_hi & !((1 << lo) - 1)
 }
 
+/// Pixels per band of rows that [`PaddedMask::new`] thresholds in parallel on a large
+/// image.
+const MASK_BAND_PIXELS: usize = 1 << 20;
+
+/// The foreground bits of image rows `rows` in the padded layout (`pw` bits per row, one
+/// row and one column of padding before the image): the index of the first word they
+/// touch, and the words from there to the last.
+fn threshold_rows(bitmap: &Bitmap, pw: usize, rows: std::ops::Range<usize>) -> (usize, Vec<u64>) {
+    let w = bitmap.width() as usize;
+    // Padded row r + 1 holds image row r after one padding pixel.
+    let first = ((rows.start + 1) * pw + 1) / 64;
+    let end = ((rows.end + 1) * pw).div_ceil(64);
+    let mut words = vec![0u64; end.saturating_sub(first)];
+    let t = bitmap.threshold();
+    let mut row = vec![0.0; w];
+    for r in rows {
+        bitmap.read_row(r, &mut row);
+        let start = (r + 1) * pw + 1 - 64 * first;
+        for (x, &v) in row.iter().enumerate() {
+            if f64::from(v) >= t {
+                let i = start + x;
+                words[i >> 6] |= 1 << (i & 63);
+            }
+        }
+    }
+    (first, words)
+}
+
 /// The padded binary mask: 1 pixel of background around the image.
 pub(super) struct PaddedMask {
     pub(super) width: i64,
@@ -285,16 +313,23 @@ impl PaddedMask {
         i32::try_from(h + 3).ok()?;
         let len = pw * (h + 2);
         let mut foreground = Bits::new(len);
-        let t = bitmap.threshold();
-        let mut row = vec![0.0; w];
-        for r in 0..h {
-            bitmap.read_row(r, &mut row);
-            // Padded row r + 1 holds image row r after one padding pixel.
-            let start = (r + 1) * pw + 1;
-            for (x, &v) in row.iter().enumerate() {
-                if f64::from(v) >= t {
-                    foreground.set(start + x);
-                }
+        // A large image is thresholded in bands of rows on the thread pool. Each band
+        // fills the words its rows touch; neighbouring bands can share a word at their
+        // seam, so the bands are OR-ed in, which gives the same bits in any order.
+        let band = (MASK_BAND_PIXELS / w.max(1)).max(1);
+        let fill = |rows: std::ops::Range<usize>| threshold_rows(bitmap, pw, rows);
+        let bands: Vec<(usize, Vec<u64>)> = if w * h >= 2 * MASK_BAND_PIXELS {
+            use rayon::prelude::*;
+            (0..h.div_ceil(band))
+                .into_par_iter()
+                .map(|k| fill(k * band..((k + 1) * band).min(h)))
+                .collect()
+        } else {
+            vec![fill(0..h)]
+        };
+        for (first, words) in bands {
+            for (word, bits) in foreground.0[first..].iter_mut().zip(words) {
+                *word |= bits;
             }
         }
         resolve_diagonals(&mut foreground, pw, h + 2, bitmap);
@@ -496,6 +531,50 @@ mod tests {
         }
         let coverage = on.iter().map(|&v| f32::from(u8::from(v))).collect();
         Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap()
+    }
+
+    /// A large image's mask is thresholded in bands of rows whose seams fall inside
+    /// words: OR-ed together they give every pixel exactly as one pass over all rows, and
+    /// that pass sets exactly the pixels at or above the threshold (and no padding).
+    #[test]
+    fn banded_threshold_matches_one_pass_pixel_for_pixel() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let (w, h) = (1531, 1409);
+        assert!(
+            w * h >= 2 * MASK_BAND_PIXELS,
+            "the test must take the banded path"
+        );
+        let coverage: Vec<f32> = (0..w * h).map(|_| rng.random::<f32>()).collect();
+        let bitmap = Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap();
+        let pw = w + 2;
+        let (first, whole) = threshold_rows(&bitmap, pw, 0..h);
+        let mut banded = vec![0u64; whole.len()];
+        for rows in [0..1, 1..700, 700..701, 701..1200, 1200..h] {
+            let (at, words) = threshold_rows(&bitmap, pw, rows);
+            for (word, bits) in banded[at - first..].iter_mut().zip(words) {
+                *word |= bits;
+            }
+        }
+        assert_eq!(banded, whole);
+        let t = bitmap.threshold();
+        for r in 0..h + 2 {
+            for c in 0..pw {
+                let i = r * pw + c - 64 * first;
+                let set = whole.get(i >> 6).is_some_and(|w| (w >> (i & 63)) & 1 != 0);
+                let inside = (1..=h).contains(&r) && (1..=w).contains(&c);
+                let expected =
+                    inside && f64::from(bitmap.coverage_at(c as i64 - 1, r as i64 - 1)) >= t;
+                assert_eq!(set, expected, "pixel ({c}, {r})");
+            }
+        }
+        // The mask built on the thread pool holds the same bits before its diagonal pass.
+        let mask = PaddedMask::new(&bitmap).unwrap();
+        let mut plain = Bits(vec![0; mask.foreground.0.len()]);
+        for (word, bits) in plain.0[first..].iter_mut().zip(&whole) {
+            *word |= bits;
+        }
+        resolve_diagonals(&mut plain, pw, h + 2, &bitmap);
+        assert_eq!(plain.0, mask.foreground.0);
     }
 
     /// The mask after the diagonal pass, pixel for pixel as a plain scan of every 2 × 2

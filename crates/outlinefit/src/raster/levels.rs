@@ -97,22 +97,21 @@ impl Levels {
         }
         match self {
             Levels::Byte(v, t) => {
-                // Four interleaved tallies: runs of one level (a page's white paper) would
-                // otherwise make every increment wait for the one before it.
-                let mut lanes = [[0u64; 256]; 4];
-                let mut quads = v.chunks_exact(4);
-                for quad in &mut quads {
-                    for (lane, &l) in lanes.iter_mut().zip(quad) {
-                        lane[usize::from(l)] += 1;
-                    }
-                }
-                for &l in quads.remainder() {
-                    lanes[0][usize::from(l)] += 1;
-                }
-                used(
-                    &t[..],
-                    (0..256).map(|k| lanes.iter().map(|lane| lane[k]).sum()),
-                )
+                // A large image is counted in chunks on the thread pool; the counts are
+                // whole numbers, so their sum is the same on any number of threads.
+                let counts = if v.len() >= 2 * HISTOGRAM_CHUNK {
+                    use rayon::prelude::*;
+                    v.par_chunks(HISTOGRAM_CHUNK).map(byte_counts).reduce(
+                        || [0; 256],
+                        |mut a, b| {
+                            a.iter_mut().zip(b).for_each(|(a, b)| *a += b);
+                            a
+                        },
+                    )
+                } else {
+                    byte_counts(v)
+                };
+                used(&t[..], counts.into_iter())
             }
             Levels::Word(v, t) => {
                 let mut counts = vec![0u64; t.len()];
@@ -123,6 +122,26 @@ impl Levels {
             }
         }
     }
+}
+
+/// Pixels per chunk in which [`Levels::histogram`] counts a large 8-bit image in parallel.
+const HISTOGRAM_CHUNK: usize = 1 << 20;
+
+/// How many of `levels` have each 8-bit level.
+fn byte_counts(levels: &[u8]) -> [u64; 256] {
+    // Four interleaved tallies: runs of one level (a page's white paper) would otherwise
+    // make every increment wait for the one before it.
+    let mut lanes = [[0u64; 256]; 4];
+    let mut quads = levels.chunks_exact(4);
+    for quad in &mut quads {
+        for (lane, &l) in lanes.iter_mut().zip(quad) {
+            lane[usize::from(l)] += 1;
+        }
+    }
+    for &l in quads.remainder() {
+        lanes[0][usize::from(l)] += 1;
+    }
+    std::array::from_fn(|k| lanes.iter().map(|lane| lane[k]).sum())
 }
 
 /// A zeroed table of 16-bit levels (256 KiB).
@@ -179,6 +198,22 @@ mod tests {
         assert_eq!(out, [0.0, 0.0, 1.0, 16384.0 / 65535.0, 0.0, 0.0]);
         let bytes = Levels::bytes(vec![0, 255], |v| 2.0 - f32::from(v) / 100.0);
         assert_eq!((bytes.get(0), bytes.get(1)), (Some(1.0), Some(0.0)));
+    }
+
+    #[test]
+    fn a_large_histogram_counted_in_chunks_is_the_plain_count() {
+        let n = 2 * HISTOGRAM_CHUNK + 12_345;
+        let pixels: Vec<u8> = (0..n).map(|i| ((i * 7919) % 251) as u8).collect();
+        let mut plain = [0u64; 256];
+        for &l in &pixels {
+            plain[usize::from(l)] += 1;
+        }
+        let levels = Levels::bytes(pixels, |l| f32::from(l) / 255.0);
+        let counted = levels.histogram();
+        assert_eq!(counted.len(), 251);
+        for (v, n) in counted {
+            assert_eq!(n, plain[(v * 255.0).round() as usize], "level {v}");
+        }
     }
 
     #[test]

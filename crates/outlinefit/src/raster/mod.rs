@@ -805,15 +805,23 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
         .threshold
         .map(|t| scale.coverage_threshold(f64::from(t)));
     let (w, h) = (width as usize, height as usize);
+    // Otsu's level of the coverage, once the lighting rule has needed it.
+    let mut otsu = None;
     let map = match opts.threshold_mode {
         _ if from_alpha => None,
         ThresholdMode::Global => None,
         ThresholdMode::Local => Some(lighting::PaperMap::new(&coverage, w, h)),
         ThresholdMode::Auto => Some(lighting::PaperMap::new(&coverage, w, h)).filter(|map| {
             let chroma = colour.as_deref().map(|img| map.block_chroma(img));
-            let global = threshold.unwrap_or_else(|| otsu_threshold(&coverage));
+            let global = threshold.unwrap_or_else(|| *otsu.insert(otsu_threshold(&coverage)));
             map.is_uneven(global, chroma.as_deref())
         }),
+    };
+    // Without a paper map the coverage is as it was: Otsu's level is the one just found.
+    let threshold = if map.is_none() {
+        threshold.or(otsu)
+    } else {
+        threshold
     };
     drop(colour);
     let local = map.is_some();
@@ -841,6 +849,7 @@ pub(crate) fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
 pub(crate) fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     let (img, frames) = decode_bytes(bytes, name, opts)?;
     let mut bitmap = convert(Cow::Owned(img), opts)?;
+
     bitmap.frame = opts.frame;
     bitmap.frames = frames;
     Ok(bitmap)
