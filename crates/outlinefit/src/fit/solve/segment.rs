@@ -21,6 +21,7 @@ use crate::geom::Point;
 use crate::linalg::cramer2;
 use crate::param::centripetal_parameters;
 use crate::param::parameters_into;
+use crate::param::Parameterization;
 
 /// Fits one segment: centripetal parameters, weight search with least-squares control
 /// points, parameter correction, then a Levenberg–Marquardt polish of the orthogonal
@@ -67,7 +68,6 @@ pub fn fit_segment_from(
             evaluations: 1,
         };
     }
-    let centripetal = params.clone();
     let scale = run_scale(points);
     let mut evaluations = 0;
     let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
@@ -77,6 +77,10 @@ pub fn fit_segment_from(
             .initial
             .iter()
             .map(|&rule| {
+                // The centripetal parameters are already there.
+                if rule == Parameterization::Centripetal {
+                    return params.clone();
+                }
                 let mut p = Vec::with_capacity(points.len());
                 parameters_into(points, rule, &mut p);
                 p
@@ -96,7 +100,7 @@ pub fn fit_segment_from(
     };
     for initial in inits {
         if settings.fixed_weights() {
-            runs.push((initial.clone(), [settings.weight_range.0; 2]));
+            runs.push((initial, [settings.weight_range.0; 2]));
             continue;
         }
         let model = search_model(&initial)
@@ -165,7 +169,7 @@ pub fn fit_segment_from(
     let (curve, params, _) = best.unwrap_or_else(|| {
         (
             straight_segment(points[0], points[points.len() - 1], start, end),
-            centripetal,
+            centripetal_parameters(points),
             0.0,
         )
     });
