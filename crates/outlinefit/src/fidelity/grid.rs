@@ -67,9 +67,12 @@ impl From<Vertex> for Point {
 pub(super) fn edge_of(polylines: &[Vec<Vertex>], (contour, k): (u32, u32)) -> Edge {
     let line = &polylines[contour as usize];
     let k = k as usize;
+    // The next point, wrapping at the end (a compare, not a division: this runs for
+    // every edge looked at).
+    let next = if k + 1 == line.len() { 0 } else { k + 1 };
     Edge {
         a: line[k].point(),
-        b: line[(k + 1) % line.len()].point(),
+        b: line[next].point(),
         contour,
         index: k as u32,
     }
@@ -210,14 +213,14 @@ impl<'a> EdgeGrid<'a> {
                 // two ends otherwise.
                 let step = if (row - r).abs() == ring { 1 } else { 2 * ring };
                 for col in (c - ring..=c + ring).step_by(step.max(1) as usize) {
-                    for e in self.cell_edges(row, col) {
-                        if only.is_some_and(|o| o != e.contour) {
+                    for &key in self.cell_keys(row, col) {
+                        if only.is_some_and(|o| o != key.0) {
                             continue;
                         }
+                        let e = self.edge(key);
                         let d = segment_distance(p, e.a, e.b);
                         // Ties go to the first edge in contour order, whatever the
                         // order the cells are visited in.
-                        let key = (e.contour, e.index);
                         if d <= reach && best.is_none_or(|(bd, bk)| d < bd || (d == bd && key < bk))
                         {
                             best = Some((d, key));
@@ -229,8 +232,9 @@ impl<'a> EdgeGrid<'a> {
         best
     }
 
-    /// The edges listed in cell (`row`, `col`); none outside the grid.
-    fn cell_edges(&self, row: i64, col: i64) -> impl Iterator<Item = Edge> + '_ {
+    /// The edges listed in cell (`row`, `col`) as (contour, index) keys; none outside the
+    /// grid.
+    fn cell_keys(&self, row: i64, col: i64) -> impl Iterator<Item = &(u32, u32)> + '_ {
         let inside = (0..self.rows).contains(&row) && (0..self.cols).contains(&col);
         let items = if inside {
             let cell = (row * self.cols + col) as usize;
@@ -238,7 +242,12 @@ impl<'a> EdgeGrid<'a> {
         } else {
             &[]
         };
-        items.iter().map(|&i| self.edge(self.edges[i as usize]))
+        items.iter().map(|&i| &self.edges[i as usize])
+    }
+
+    /// The edges listed in cell (`row`, `col`); none outside the grid.
+    fn cell_edges(&self, row: i64, col: i64) -> impl Iterator<Item = Edge> + '_ {
+        self.cell_keys(row, col).map(|&key| self.edge(key))
     }
 
     /// True when some edge lies within `reach` px of `p` (stops at the first).

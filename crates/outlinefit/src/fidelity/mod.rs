@@ -485,7 +485,8 @@ pub(crate) fn check_again(
         .enumerate()
         .filter(|&(i, line)| line.len() >= 2 && crosses(i))
         .flat_map(|(_, line)| {
-            (0..line.len()).map(|k| (line[k].point(), line[(k + 1) % line.len()].point()))
+            let next = |k: usize| if k + 1 == line.len() { 0 } else { k + 1 };
+            (0..line.len()).map(move |k| (line[k].point(), line[next(k)].point()))
         });
     for (a, b) in edges {
         if a.y == b.y {
