@@ -340,20 +340,29 @@ fn level_crossing(bitmap: &Bitmap, m: Point, n: Point) -> Option<f64> {
 
 impl Workspace {
     /// Grey-level path: every crack midpoint moved to the edge along its normal.
+    ///
+    /// With `soft_share`, `None` as soon as more than that share of the cracks have open
+    /// windows (a soft edge, to be refined with a wider window): the count only grows, so
+    /// the rest of the pass could not change the verdict, and is not spent.
     pub(super) fn refined_outline(
         &mut self,
         bitmap: &Bitmap,
         cracks: &[Crack],
         estimator: EdgeEstimator,
         window: Window,
-    ) -> Vec<Point> {
+        soft_share: Option<f64>,
+    ) -> Option<Vec<Point>> {
         self.points.clear();
         self.tangents.clear();
         self.anchors.clear();
-        self.open_windows = 0;
+        let mut open_windows = 0;
+        let soft = soft_share.map(|share| share * cracks.len() as f64);
         for crack in cracks {
             let (p, n, open) = refine_crack(bitmap, crack, estimator, window);
-            self.open_windows += usize::from(open);
+            open_windows += usize::from(open);
+            if soft.is_some_and(|limit| open_windows as f64 > limit) {
+                return None;
+            }
             self.points.push(p);
             // Walking direction, foreground on the right: the normal turned by +90°.
             self.tangents.push(n.perp());
@@ -363,7 +372,7 @@ impl Workspace {
         self.sharpen_rounded_corners();
         self.correct_curvature_bias();
         self.mark_turns();
-        self.resample()
+        Some(self.resample())
     }
 
     /// Grey-level path: on a curved edge the coverage integral is biased towards the
@@ -547,6 +556,58 @@ mod tests {
         let row: Vec<f32> = (0..w).map(|c| column(c) as f32).collect();
         let coverage = (0..h).flat_map(|_| row.iter().copied()).collect();
         Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap()
+    }
+
+    /// A disc of radius 18 px centred in a 60 × 60 image, blurred by a Gaussian of `sigma`
+    /// px (each pixel the blurred step of its centre's distance from the circle).
+    fn blurred_disc(sigma: f64) -> Bitmap {
+        let coverage = (0..60 * 60)
+            .map(|i| {
+                let (x, y) = ((i % 60) as f64 + 0.5, (i / 60) as f64 + 0.5);
+                let r = ((x - 30.0).powi(2) + (y - 30.0).powi(2)).sqrt();
+                let v = 0.5
+                    * statrs::function::erf::erfc((r - 18.0) / (sigma * std::f64::consts::SQRT_2));
+                v as f32
+            })
+            .collect();
+        Bitmap::from_coverage(60, 60, coverage, Some(0.5)).unwrap()
+    }
+
+    /// The sharp pass gives up on a soft edge as soon as more than `SOFT_SHARE` of its
+    /// windows are open, and on a sharp one runs to the end and gives what it gives
+    /// without the limit.
+    #[test]
+    fn the_sharp_pass_stops_once_the_edge_is_known_to_be_soft() {
+        let estimator = EdgeEstimator::CoverageIntegral;
+        for (sigma, soft) in [(0.4, false), (3.0, true)] {
+            let b = blurred_disc(sigma);
+            let mut mask = crate::contour::mask::PaddedMask::new(&b).unwrap();
+            let found = mask.borders();
+            assert_eq!(found.len(), 1);
+            let cracks = &found[0].cracks;
+            let open = cracks
+                .iter()
+                .filter(|c| refine_crack(&b, c, estimator, Window::SHARP).2)
+                .count();
+            assert_eq!(
+                open as f64 > SOFT_SHARE * cracks.len() as f64,
+                soft,
+                "σ = {sigma}"
+            );
+            let mut work = Workspace::default();
+            let full = work.refined_outline(&b, cracks, estimator, Window::SHARP, None);
+            assert!(full.as_ref().is_some_and(|p| p.len() > 50));
+            let limited =
+                work.refined_outline(&b, cracks, estimator, Window::SHARP, Some(SOFT_SHARE));
+            if soft {
+                assert!(
+                    limited.is_none(),
+                    "σ = {sigma}: the soft edge was not noticed"
+                );
+            } else {
+                assert_eq!(limited, full, "σ = {sigma}");
+            }
+        }
     }
 
     /// The edge width the refinement estimates, against blurred edges of known σ: the

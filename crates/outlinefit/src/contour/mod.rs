@@ -380,11 +380,15 @@ fn extract_with(
             let points = if bitmap.is_bilevel() {
                 bilevel(work)
             } else {
-                let mut refined = work.refined_outline(bitmap, &cracks, estimator, Window::SHARP);
-                if work.open_windows as f64 > SOFT_SHARE * cracks.len() as f64 {
-                    // A soft edge: refined again with the window that spans it.
-                    refined = work.refined_outline(bitmap, &cracks, estimator, Window::SOFT);
-                }
+                let sharp = Window::SHARP;
+                let refined = work
+                    .refined_outline(bitmap, &cracks, estimator, sharp, Some(SOFT_SHARE))
+                    .unwrap_or_else(|| {
+                        // A soft edge: refined with the window that spans it.
+                        let soft = Window::SOFT;
+                        let all = work.refined_outline(bitmap, &cracks, estimator, soft, None);
+                        all.unwrap_or_default()
+                    });
                 if outline_noise(&refined) > NOISE_LIMIT {
                     // The grey levels are noise (JPEG ringing, scanner grain), not
                     // anti-aliasing: refining to them would fit the noise. Trace the

@@ -7,9 +7,6 @@ use crate::geom::Point;
 pub(super) struct Workspace {
     /// The outline being built.
     pub(super) points: Vec<Point>,
-    /// Grey-level path: cracks whose integration window ended short of paper or ink (see
-    /// `grey::SOFT_SHARE`).
-    pub(super) open_windows: usize,
     /// Unit walking direction (foreground on the right) at each point.
     pub(super) tangents: Vec<Point>,
     /// Points that must survive clean-up and resampling exactly (corners, sharp turns).
