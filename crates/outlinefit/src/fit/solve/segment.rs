@@ -286,12 +286,18 @@ fn farthest_at(curve: &RationalCubic, points: &[Point], params: &[f64]) -> f64 {
         .sqrt()
 }
 
-/// Moves every interior parameter to the foot of its point on the curve (local Newton).
+/// Newton steps per point and round of parameter correction. Two rather than three: on
+/// the scan of `make_scan.py` 0.97x the wall time and 52 fewer of its 33 605 segments, on
+/// the corpus segments and area error per subset within 0.2 %.
+const REPROJECT_STEPS: usize = 2;
+
+/// Moves every interior parameter towards the foot of its point on the curve
+/// ([`REPROJECT_STEPS`] local Newton steps).
 fn reproject(curve: &RationalCubic, points: &[Point], params: &mut [f64]) {
     let n = points.len();
     let power = curve.power_form();
     for i in 1..n.saturating_sub(1) {
-        params[i] = power.project_quick(points[i], params[i], 3);
+        params[i] = power.project_quick(points[i], params[i], REPROJECT_STEPS);
     }
 }
 
