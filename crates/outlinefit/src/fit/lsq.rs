@@ -66,10 +66,12 @@ impl LsqOptions {
 }
 
 /// Data points the weight search of a segment evaluates (see
-/// [`FitSettings::search_points`]). 16 rather than 24: on the scan of `make_scan.py`,
-/// 0.96x the wall time for 13 more of its 33 592 segments; on the corpus, segments and
-/// area error per subset within 0.5 %.
-const LSQ_SEARCH_POINTS: usize = 16;
+/// [`FitSettings::search_points`]). 20 rather than 24: on the scan of `make_scan.py`
+/// 0.98x the processor time (wall time within noise) for 14 more of its 33 540
+/// segments, and every corpus ratio to potrace the same to two decimals. 16 saved 4 % of
+/// the scan's wall time but raised dev-more64's area error by 0.4 % (0.354x -> 0.356x
+/// potrace's).
+const LSQ_SEARCH_POINTS: usize = 20;
 
 /// A weight search whose curve is still this many tolerances from a point after its
 /// first round of parameter correction stops there, and the piece is split. On the
