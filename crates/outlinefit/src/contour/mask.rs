@@ -258,32 +258,35 @@ fn bit_range(lo: usize, hi: usize) -> u64 {
     below_hi & !((1 << lo) - 1)
 }
 
-/// Pixels per band of rows that [`PaddedMask::new`] thresholds in parallel on a large
-/// image.
-const MASK_BAND_PIXELS: usize = 1 << 20;
+/// Words of the mask (64 pixels each) per chunk that [`PaddedMask::new`] fills in
+/// parallel on a large image.
+const MASK_CHUNK_WORDS: usize = 1 << 14;
 
-/// The foreground bits of image rows `rows` in the padded layout (`pw` bits per row, one
-/// row and one column of padding before the image): the index of the first word they
-/// touch, and the words from there to the last.
-fn threshold_rows(bitmap: &Bitmap, pw: usize, rows: std::ops::Range<usize>) -> (usize, Vec<u64>) {
+/// Sets the foreground bits of `words`, the mask's words from index `first` on, in the
+/// padded layout (`pw` bits per row, one row and one column of padding before the
+/// image's `h` rows). Reads every image row the words touch; at a chunk's seam a row is
+/// read by both chunks, but each bit is set by the chunk that owns its word.
+fn fill_words(bitmap: &Bitmap, pw: usize, h: usize, first: usize, words: &mut [u64]) {
     let w = bitmap.width() as usize;
-    // Padded row r + 1 holds image row r after one padding pixel.
-    let first = ((rows.start + 1) * pw + 1) / 64;
-    let end = ((rows.end + 1) * pw).div_ceil(64);
-    let mut words = vec![0u64; end.saturating_sub(first)];
+    let (lo, hi) = (64 * first, 64 * (first + words.len()));
     let t = bitmap.threshold();
     let mut row = vec![0.0; w];
-    for r in rows {
-        bitmap.read_row(r, &mut row);
-        let start = (r + 1) * pw + 1 - 64 * first;
-        for (x, &v) in row.iter().enumerate() {
-            if f64::from(v) >= t {
-                let i = start + x;
-                words[i >> 6] |= 1 << (i & 63);
+    // Padded row r + 1 holds image row r after one padding pixel.
+    let rows = (lo / pw).max(1)..(hi.div_ceil(pw)).min(h + 1);
+    for padded in rows {
+        let start = padded * pw + 1;
+        let (from, to) = (lo.max(start), hi.min(start + w));
+        if from >= to {
+            continue;
+        }
+        bitmap.read_row(padded - 1, &mut row);
+        for i in from..to {
+            if f64::from(row[i - start]) >= t {
+                let j = i - lo;
+                words[j >> 6] |= 1 << (j & 63);
             }
         }
     }
-    (first, words)
 }
 
 /// The padded binary mask: 1 pixel of background around the image.
@@ -313,24 +316,17 @@ impl PaddedMask {
         i32::try_from(h + 3).ok()?;
         let len = pw * (h + 2);
         let mut foreground = Bits::new(len);
-        // A large image is thresholded in bands of rows on the thread pool. Each band
-        // fills the words its rows touch; neighbouring bands can share a word at their
-        // seam, so the bands are OR-ed in, which gives the same bits in any order.
-        let band = (MASK_BAND_PIXELS / w.max(1)).max(1);
-        let fill = |rows: std::ops::Range<usize>| threshold_rows(bitmap, pw, rows);
-        let bands: Vec<(usize, Vec<u64>)> = if w * h >= 2 * MASK_BAND_PIXELS {
+        // A large image is thresholded in chunks of words on the thread pool: each chunk
+        // owns its words, so the bits are the same in any order.
+        if w * h >= 2 * 64 * MASK_CHUNK_WORDS {
             use rayon::prelude::*;
-            (0..h.div_ceil(band))
-                .into_par_iter()
-                .map(|k| fill(k * band..((k + 1) * band).min(h)))
-                .collect()
+            foreground
+                .0
+                .par_chunks_mut(MASK_CHUNK_WORDS)
+                .enumerate()
+                .for_each(|(k, words)| fill_words(bitmap, pw, h, k * MASK_CHUNK_WORDS, words));
         } else {
-            vec![fill(0..h)]
-        };
-        for (first, words) in bands {
-            for (word, bits) in foreground.0[first..].iter_mut().zip(words) {
-                *word |= bits;
-            }
+            fill_words(bitmap, pw, h, 0, &mut foreground.0);
         }
         resolve_diagonals(&mut foreground, pw, h + 2, bitmap);
         Some(PaddedMask {
@@ -533,34 +529,43 @@ mod tests {
         Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap()
     }
 
-    /// A large image's mask is thresholded in bands of rows whose seams fall inside
-    /// words: OR-ed together they give every pixel exactly as one pass over all rows, and
-    /// that pass sets exactly the pixels at or above the threshold (and no padding).
+    /// A large image's mask is filled in chunks of words whose seams fall inside rows:
+    /// chunk by chunk it holds the same words as one pass over all of them, and that pass
+    /// sets exactly the pixels at or above the threshold (and no padding).
     #[test]
-    fn banded_threshold_matches_one_pass_pixel_for_pixel() {
+    fn chunked_threshold_matches_one_pass_pixel_for_pixel() {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
         let (w, h) = (1531, 1409);
         assert!(
-            w * h >= 2 * MASK_BAND_PIXELS,
-            "the test must take the banded path"
+            w * h >= 2 * 64 * MASK_CHUNK_WORDS,
+            "the test must take the parallel path"
         );
         let coverage: Vec<f32> = (0..w * h).map(|_| rng.random::<f32>()).collect();
         let bitmap = Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap();
         let pw = w + 2;
-        let (first, whole) = threshold_rows(&bitmap, pw, 0..h);
-        let mut banded = vec![0u64; whole.len()];
-        for rows in [0..1, 1..700, 700..701, 701..1200, 1200..h] {
-            let (at, words) = threshold_rows(&bitmap, pw, rows);
-            for (word, bits) in banded[at - first..].iter_mut().zip(words) {
-                *word |= bits;
+        let len = (pw * (h + 2)).div_ceil(64);
+        let mut whole = vec![0u64; len];
+        fill_words(&bitmap, pw, h, 0, &mut whole);
+        let mut chunked = vec![0u64; len];
+        // Uneven chunks, one of a single word, seams anywhere in a row.
+        let mut first = 0;
+        for size in [1, 77, 5000, 1, 12_345]
+            .into_iter()
+            .chain(std::iter::repeat(9_999))
+        {
+            if first >= len {
+                break;
             }
+            let end = (first + size).min(len);
+            fill_words(&bitmap, pw, h, first, &mut chunked[first..end]);
+            first = end;
         }
-        assert_eq!(banded, whole);
+        assert_eq!(chunked, whole);
         let t = bitmap.threshold();
         for r in 0..h + 2 {
             for c in 0..pw {
-                let i = r * pw + c - 64 * first;
-                let set = whole.get(i >> 6).is_some_and(|w| (w >> (i & 63)) & 1 != 0);
+                let i = r * pw + c;
+                let set = (whole[i >> 6] >> (i & 63)) & 1 != 0;
                 let inside = (1..=h).contains(&r) && (1..=w).contains(&c);
                 let expected =
                     inside && f64::from(bitmap.coverage_at(c as i64 - 1, r as i64 - 1)) >= t;
@@ -569,10 +574,7 @@ mod tests {
         }
         // The mask built on the thread pool holds the same bits before its diagonal pass.
         let mask = PaddedMask::new(&bitmap).unwrap();
-        let mut plain = Bits(vec![0; mask.foreground.0.len()]);
-        for (word, bits) in plain.0[first..].iter_mut().zip(&whole) {
-            *word |= bits;
-        }
+        let mut plain = Bits(whole);
         resolve_diagonals(&mut plain, pw, h + 2, &bitmap);
         assert_eq!(plain.0, mask.foreground.0);
     }
