@@ -47,7 +47,7 @@ use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::raster::Bitmap;
 use dense::{dense_regions, UNDECIDED};
 use dirty::Dirty;
-use grid::{Edge, EdgeGrid, Vertex};
+use grid::{all_edges, Edge, EdgeGrid, Vertex};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashSet;
@@ -480,15 +480,8 @@ pub(crate) fn check_again(
         None => true,
         Some(d) => matches!(boxes[i], Some(b) if d.near_box(b, 0.0)),
     };
-    let edges = polylines
-        .iter()
-        .enumerate()
-        .filter(|&(i, line)| line.len() >= 2 && crosses(i))
-        .flat_map(|(_, line)| {
-            let next = |k: usize| if k + 1 == line.len() { 0 } else { k + 1 };
-            (0..line.len()).map(move |k| (line[k].point(), line[next(k)].point()))
-        });
-    for (a, b) in edges {
+    let edges = all_edges(&polylines).filter(|e| crosses(e.contour as usize));
+    for Edge { a, b, .. } in edges {
         if a.y == b.y {
             continue;
         }

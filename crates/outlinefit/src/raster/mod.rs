@@ -849,7 +849,6 @@ pub(crate) fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
 pub(crate) fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     let (img, frames) = decode_bytes(bytes, name, opts)?;
     let mut bitmap = convert(Cow::Owned(img), opts)?;
-
     bitmap.frame = opts.frame;
     bitmap.frames = frames;
     Ok(bitmap)
