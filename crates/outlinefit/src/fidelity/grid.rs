@@ -1,6 +1,8 @@
 //! A uniform grid of the drawn outline's edges, for nearest-edge queries.
 
 use crate::geom::{floor_i64, segment_distance, Point};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 /// Cell size (px) of the spatial grid of drawn edges: small, so that a query looks at few
 /// edges, but the grid never holds more than `CELLS_PER_EDGE` cells per edge.
@@ -78,15 +80,121 @@ pub(super) fn edge_of(polylines: &[Vec<Vertex>], (contour, k): (u32, u32)) -> Ed
     }
 }
 
-/// Every edge of `polylines`, in order.
-pub(super) fn all_edges(polylines: &[Vec<Vertex>]) -> impl Iterator<Item = Edge> + '_ {
-    polylines
-        .iter()
-        .enumerate()
-        .filter(|(_, line)| line.len() >= 2)
-        .flat_map(move |(i, line)| {
-            (0..line.len() as u32).map(move |k| edge_of(polylines, (i as u32, k)))
-        })
+/// Fewest polyline points for which the grid is built on the thread pool (a page of text
+/// has a million; a glyph a few hundred, where handing out work costs more than it
+/// saves).
+const PARALLEL_EDGES: usize = 50_000;
+
+/// The edges of `polylines` that `keep` accepts, as (contour, index) keys in contour
+/// order. Counted first, so that the list is allocated at its size (a page has a million
+/// edges; growing by doubling would leave up to half of it unused); on a large outline
+/// each contour's keys are counted and written on the thread pool, into its own part of
+/// the list.
+fn kept_edges(
+    polylines: &[Vec<Vertex>],
+    keep: &(impl Fn(&Edge) -> bool + Sync),
+    parallel: bool,
+) -> Vec<(u32, u32)> {
+    let line_edges = |i: usize| {
+        let n = if polylines[i].len() >= 2 {
+            polylines[i].len() as u32
+        } else {
+            0
+        };
+        (0..n)
+            .map(move |k| edge_of(polylines, (i as u32, k)))
+            .filter(|e| keep(e))
+            .map(|e| (e.contour, e.index))
+    };
+    if !parallel {
+        let kept = (0..polylines.len()).map(|i| line_edges(i).count()).sum();
+        let mut edges = Vec::with_capacity(kept);
+        edges.extend((0..polylines.len()).flat_map(line_edges));
+        return edges;
+    }
+    let counts: Vec<usize> = (0..polylines.len())
+        .into_par_iter()
+        .map(|i| line_edges(i).count())
+        .collect();
+    let mut edges = vec![(0u32, 0u32); counts.iter().sum()];
+    let mut parts = Vec::with_capacity(counts.len());
+    let mut rest = edges.as_mut_slice();
+    for &k in &counts {
+        let (part, tail) = rest.split_at_mut(k);
+        parts.push(part);
+        rest = tail;
+    }
+    parts.into_par_iter().enumerate().for_each(|(i, part)| {
+        for (slot, key) in part.iter_mut().zip(line_edges(i)) {
+            *slot = key;
+        }
+    });
+    edges
+}
+
+/// The compressed rows of the grid (`start`, `items`) on one thread: each edge's index
+/// listed in every cell `cells_of` gives for it, in edge order.
+fn fill_serial<I: Iterator<Item = usize>>(
+    edges: &[(u32, u32)],
+    cells: usize,
+    cells_of: impl Fn((u32, u32)) -> I,
+) -> (Vec<u32>, Vec<u32>) {
+    let mut count = vec![0u32; cells + 1];
+    for &key in edges {
+        for cell in cells_of(key) {
+            count[cell + 1] += 1;
+        }
+    }
+    for k in 0..cells {
+        count[k + 1] += count[k];
+    }
+    let mut items = vec![0u32; count[cells] as usize];
+    // `count[cell]` serves as the cell's fill cursor, which ends at the next cell's
+    // start; shifting by one afterwards restores the starts.
+    for (i, &key) in edges.iter().enumerate() {
+        for cell in cells_of(key) {
+            items[count[cell] as usize] = i as u32;
+            count[cell] += 1;
+        }
+    }
+    count.copy_within(0..cells, 1);
+    count[0] = 0;
+    (count, items)
+}
+
+/// [`fill_serial`] on the thread pool: the counts and the fill cursors are atomic, so a
+/// cell's edges may be listed in any order. No query depends on that order (the nearest
+/// edge breaks ties by its key, `any_within` answers yes or no), so every answer is the
+/// same on any number of threads.
+fn fill_parallel<I: Iterator<Item = usize>>(
+    edges: &[(u32, u32)],
+    cells: usize,
+    cells_of: impl Fn((u32, u32)) -> I + Sync,
+) -> (Vec<u32>, Vec<u32>) {
+    let mut count: Vec<AtomicU32> = (0..=cells).map(|_| AtomicU32::new(0)).collect();
+    edges.par_iter().for_each(|&key| {
+        for cell in cells_of(key) {
+            count[cell + 1].fetch_add(1, Relaxed);
+        }
+    });
+    for k in 0..cells {
+        let before = *count[k].get_mut();
+        *count[k + 1].get_mut() += before;
+    }
+    let total = *count[cells].get_mut() as usize;
+    let items: Vec<AtomicU32> = (0..total).map(|_| AtomicU32::new(0)).collect();
+    edges.par_iter().enumerate().for_each(|(i, &key)| {
+        for cell in cells_of(key) {
+            let slot = count[cell].fetch_add(1, Relaxed);
+            items[slot as usize].store(i as u32, Relaxed);
+        }
+    });
+    // Collected in place: the atomics' memory becomes the plain lists'.
+    let mut count: Vec<u32> = count.into_iter().map(AtomicU32::into_inner).collect();
+    let items: Vec<u32> = items.into_iter().map(AtomicU32::into_inner).collect();
+    count.copy_within(0..cells, 1);
+    count[0] = 0;
+    (count, items)
 }
 
 /// A uniform grid of edges over a box (compressed rows: `start[cell]..start[cell + 1]`
@@ -111,18 +219,10 @@ impl<'a> EdgeGrid<'a> {
     pub(super) fn new(
         polylines: &'a [Vec<Vertex>],
         [x0, y0, x1, y1]: [f64; 4],
-        keep: impl Fn(&Edge) -> bool,
+        keep: impl Fn(&Edge) -> bool + Sync,
     ) -> EdgeGrid<'a> {
-        // Counted first, so that the list is allocated at its size (a page has a million
-        // edges; growing by doubling would leave up to half of it unused).
-        let kept = all_edges(polylines).filter(|e| keep(e)).count();
-        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(kept);
-        edges.extend(
-            all_edges(polylines)
-                .filter(|e| keep(e))
-                .map(|e| (e.contour, e.index)),
-        );
-        let all_edges = || edges.iter().map(|&e| edge_of(polylines, e));
+        let parallel = polylines.iter().map(Vec::len).sum::<usize>() >= PARALLEL_EDGES;
+        let edges = kept_edges(polylines, &keep, parallel);
         let (width, height) = ((x1 - x0).max(1.0), (y1 - y0).max(1.0));
         let origin = Point::new(x0, y0);
         let max_cells = (CELLS_PER_EDGE * edges.len() as f64).max(MIN_CELLS);
@@ -130,41 +230,21 @@ impl<'a> EdgeGrid<'a> {
         let cols = (width / cell).ceil() as i64 + 1;
         let rows = (height / cell).ceil() as i64 + 1;
         let cells = (cols * rows) as usize;
-        let range = |e: &Edge| {
+        // The cells an edge is listed in: those its bounding box touches.
+        let cells_of = |key: (u32, u32)| {
+            let e = edge_of(polylines, key);
             let (a, b) = (e.a - origin, e.b - origin);
             let c0 = floor_i64(a.x.min(b.x) / cell).clamp(0, cols - 1);
             let c1 = floor_i64(a.x.max(b.x) / cell).clamp(0, cols - 1);
             let r0 = floor_i64(a.y.min(b.y) / cell).clamp(0, rows - 1);
             let r1 = floor_i64(a.y.max(b.y) / cell).clamp(0, rows - 1);
-            (c0, c1, r0, r1)
+            (r0..=r1).flat_map(move |r| (c0..=c1).map(move |c| (r * cols + c) as usize))
         };
-        let mut count = vec![0u32; cells + 1];
-        for e in all_edges() {
-            let (c0, c1, r0, r1) = range(&e);
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    count[(r * cols + c) as usize + 1] += 1;
-                }
-            }
-        }
-        for k in 0..cells {
-            count[k + 1] += count[k];
-        }
-        let mut items = vec![0u32; count[cells] as usize];
-        // `count[cell]` serves as the cell's fill cursor, which ends at the next cell's
-        // start; shifting by one afterwards restores the starts.
-        for (i, e) in all_edges().enumerate() {
-            let (c0, c1, r0, r1) = range(&e);
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    let cell = (r * cols + c) as usize;
-                    items[count[cell] as usize] = i as u32;
-                    count[cell] += 1;
-                }
-            }
-        }
-        count.copy_within(0..cells, 1);
-        count[0] = 0;
+        let (start, items) = if parallel {
+            fill_parallel(&edges, cells, cells_of)
+        } else {
+            fill_serial(&edges, cells, cells_of)
+        };
         EdgeGrid {
             polylines,
             edges,
@@ -172,7 +252,7 @@ impl<'a> EdgeGrid<'a> {
             cell,
             cols,
             rows,
-            start: count,
+            start,
             items,
         }
     }
@@ -267,5 +347,95 @@ impl<'a> EdgeGrid<'a> {
             }
         }
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// `count` closed random polygons of 3 to 40 vertices scattered over a `w` × `h` box.
+    fn random_polylines(count: usize, w: f64, h: f64, seed: u64) -> Vec<Vec<Vertex>> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        (0..count)
+            .map(|_| {
+                let (cx, cy) = (rng.random_range(0.0..w), rng.random_range(0.0..h));
+                let n = rng.random_range(3..40);
+                (0..n)
+                    .map(|k| {
+                        let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                        let r = rng.random_range(2.0..12.0);
+                        Vertex::new(Point::new(cx + r * a.cos(), cy + r * a.sin()))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The parallel fill lists every edge in exactly the cells the serial one does (in
+    /// any order within a cell), with the same cell starts.
+    #[test]
+    fn parallel_fill_lists_the_same_edges_per_cell() {
+        let lines = random_polylines(3000, 900.0, 700.0, 5);
+        let edges = kept_edges(&lines, &|_: &Edge| true, true);
+        assert_eq!(edges, kept_edges(&lines, &|_: &Edge| true, false));
+        let keep_odd = |e: &Edge| e.index % 2 == 1;
+        assert_eq!(
+            kept_edges(&lines, &keep_odd, true),
+            kept_edges(&lines, &keep_odd, false)
+        );
+        let (cols, cell) = (100usize, 9.0);
+        let cells_of = |key: (u32, u32)| {
+            let e = edge_of(&lines, key);
+            let c0 = (e.a.x.min(e.b.x) / cell).clamp(0.0, 99.0) as usize;
+            let c1 = (e.a.x.max(e.b.x) / cell).clamp(0.0, 99.0) as usize;
+            let r0 = (e.a.y.min(e.b.y) / cell).clamp(0.0, 79.0) as usize;
+            let r1 = (e.a.y.max(e.b.y) / cell).clamp(0.0, 79.0) as usize;
+            (r0..=r1).flat_map(move |r| (c0..=c1).map(move |c| r * cols + c))
+        };
+        let cells = cols * 80;
+        let (start_s, items_s) = fill_serial(&edges, cells, cells_of);
+        let (start_p, items_p) = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap()
+            .install(|| fill_parallel(&edges, cells, cells_of));
+        assert_eq!(start_s, start_p);
+        assert!(items_s.len() > edges.len());
+        for c in 0..cells {
+            let range = start_s[c] as usize..start_s[c + 1] as usize;
+            let mut p = items_p[range.clone()].to_vec();
+            p.sort_unstable();
+            assert_eq!(items_s[range], p[..], "cell {c}");
+        }
+    }
+
+    /// On an outline large enough to be gridded in parallel, the nearest edge of every
+    /// query is the one a search of all edges finds (distance and key), and
+    /// `any_within` agrees with it.
+    #[test]
+    fn parallel_grid_finds_the_nearest_edge() {
+        let lines = random_polylines(2500, 800.0, 600.0, 11);
+        let points: usize = lines.iter().map(Vec::len).sum();
+        assert!(points >= PARALLEL_EDGES, "{points}");
+        let grid = EdgeGrid::new(&lines, [0.0, 0.0, 800.0, 600.0], |_| true);
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        for _ in 0..300 {
+            let p = Point::new(rng.random_range(-5.0..805.0), rng.random_range(-5.0..605.0));
+            let mut best: Option<(f64, (u32, u32))> = None;
+            for (i, line) in lines.iter().enumerate() {
+                for k in 0..line.len() as u32 {
+                    let e = edge_of(&lines, (i as u32, k));
+                    let d = segment_distance(p, e.a, e.b);
+                    if d <= 6.0 && best.is_none_or(|(bd, _)| d < bd) {
+                        best = Some((d, (i as u32, k)));
+                    }
+                }
+            }
+            assert_eq!(grid.nearest(p, 6.0, None), best, "{p:?}");
+            assert_eq!(grid.any_within(p, 6.0), best.is_some(), "{p:?}");
+        }
     }
 }

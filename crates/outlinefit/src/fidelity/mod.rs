@@ -47,7 +47,7 @@ use crate::merge::outline::{drawing_pieces, MergedCurve};
 use crate::raster::Bitmap;
 use dense::{dense_regions, UNDECIDED};
 use dirty::Dirty;
-use grid::{all_edges, Edge, EdgeGrid, Vertex};
+use grid::{edge_of, Edge, EdgeGrid, Vertex};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashSet;
@@ -315,6 +315,61 @@ fn deviation_bounds(contour: &FittedContour) -> Vec<f64> {
     bound
 }
 
+/// The x of every crossing of the drawn paths `lines` (indices into `polylines`, whose
+/// boxes are `boxes`) with the centre line y = r + 0.5 of each row r < `h` that `look`
+/// looks at: per row, in path and edge order. On a large outline the rows are filled in
+/// [`CROSSING_BANDS`] bands in parallel, each band visiting the paths whose boxes reach
+/// it, with the same lists.
+fn row_crossings(
+    polylines: &[Vec<Vertex>],
+    boxes: &[Option<[f64; 4]>],
+    lines: &[usize],
+    look: &Dirty,
+    h: usize,
+    parallel: bool,
+) -> Vec<Vec<f64>> {
+    let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); h];
+    let fill_band = |first: usize, rows: &mut [Vec<f64>]| {
+        let (top, bottom) = (first as f64, (first + rows.len()) as f64);
+        for &i in lines {
+            if let Some([_, y0, _, y1]) = boxes[i] {
+                if y1 < top || y0 > bottom + 1.0 {
+                    continue;
+                }
+            }
+            for k in 0..polylines[i].len() as u32 {
+                let Edge { a, b, .. } = edge_of(polylines, (i as u32, k));
+                if a.y == b.y {
+                    continue;
+                }
+                let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+                // Rows whose centre y = r + 0.5 lies in [lo.y, hi.y), within the band.
+                let r0 = (lo.y - 0.5).ceil().max(top);
+                let r1 = (hi.y - 0.5).ceil().min(bottom);
+                let mut r = r0;
+                while r < r1 {
+                    if !look.spans(r as usize).is_empty() {
+                        let y = r + 0.5;
+                        let x = lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
+                        rows[r as usize - first].push(x);
+                    }
+                    r += 1.0;
+                }
+            }
+        }
+    };
+    if parallel {
+        let band = CROSSING_BAND.max(h.div_ceil(CROSSING_BANDS));
+        crossings
+            .par_chunks_mut(band)
+            .enumerate()
+            .for_each(|(k, rows)| fill_band(k * band, rows));
+    } else {
+        fill_band(0, &mut crossings);
+    }
+    crossings
+}
+
 /// The first column after `col` whose centre lies at or beyond the crossing `x` (at most
 /// `w`), where `x` lies beyond `col`'s centre.
 fn run_end(col: usize, x: f64, w: usize) -> usize {
@@ -334,6 +389,14 @@ fn run_end(col: usize, x: f64, w: usize) -> usize {
 /// and the rows of the image compared in parallel; the findings are the same on any
 /// number of threads.
 const PARALLEL_POINTS: usize = 20_000;
+
+/// The rows of the image are split into this many bands (of at least
+/// [`CROSSING_BAND`] rows) whose crossings with the drawn paths are found in parallel; a
+/// path that reaches two bands is visited by both, each keeping its own rows.
+const CROSSING_BANDS: usize = 16;
+
+/// Fewest rows of a band of [`CROSSING_BANDS`].
+const CROSSING_BAND: usize = 64;
 
 /// `merged[i]` holds the merged curves drawn for `contours[i]` (missing or empty: its
 /// segments). Pixels in `excused` (specks dropped on purpose) never count as far.
@@ -472,7 +535,6 @@ pub(crate) fn check_again(
             &everywhere
         }
     };
-    let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); h];
     // A closed path whose box misses the tiles looked at crosses each of their rows
     // left of a pixel an even number of times, or not at all: it cannot change a
     // pixel's side, and is skipped whole.
@@ -480,25 +542,10 @@ pub(crate) fn check_again(
         None => true,
         Some(d) => matches!(boxes[i], Some(b) if d.near_box(b, 0.0)),
     };
-    let edges = all_edges(&polylines).filter(|e| crosses(e.contour as usize));
-    for Edge { a, b, .. } in edges {
-        if a.y == b.y {
-            continue;
-        }
-        let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
-        // Rows whose centre y = r + 0.5 lies in [lo.y, hi.y).
-        let r0 = (lo.y - 0.5).ceil().max(0.0);
-        let r1 = (hi.y - 0.5).ceil().min(h as f64);
-        let mut r = r0;
-        while r < r1 {
-            if !look.spans(r as usize).is_empty() {
-                let y = r + 0.5;
-                let x = lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
-                crossings[r as usize].push(x);
-            }
-            r += 1.0;
-        }
-    }
+    let lines: Vec<usize> = (0..polylines.len())
+        .filter(|&i| polylines[i].len() >= 2 && crosses(i))
+        .collect();
+    let mut crossings = row_crossings(&polylines, &boxes, &lines, look, h, parallel);
     let threshold = bitmap.threshold();
     // On grey levels, a pixel near the threshold is undecided (an anti-aliased edge
     // pixel); only decided ones count towards dense disagreement.
@@ -806,6 +853,53 @@ mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// The rows' crossings found band by band on three threads are the lists found in
+    /// one pass, bit for bit and in the same order, whether every row is looked at or
+    /// only some tiles' rows, and with paths that span several bands.
+    #[test]
+    fn banded_row_crossings_equal_one_pass() {
+        let mut rng = ChaCha8Rng::seed_from_u64(21);
+        let (w, h) = (700usize, 1000usize);
+        let polylines: Vec<Vec<Vertex>> = (0..400)
+            .map(|_| {
+                let (cx, cy) = (
+                    rng.random_range(0.0..w as f64),
+                    rng.random_range(0.0..h as f64),
+                );
+                let n = rng.random_range(3..60);
+                let tall = rng.random_range(1.0..4.0);
+                (0..n)
+                    .map(|k| {
+                        let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                        let r = rng.random_range(3.0..40.0);
+                        Vertex::new(Point::new(cx + r * a.cos(), cy + tall * r * a.sin()))
+                    })
+                    .collect()
+            })
+            .collect();
+        let boxes: Vec<Option<[f64; 4]>> = polylines.iter().map(|l| vertex_box(l)).collect();
+        let lines: Vec<usize> = (0..polylines.len()).collect();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let tiles = Dirty::new(
+            w,
+            h,
+            &[[100.0, 130.0, 300.0, 420.0], [0.0, 700.0, 700.0, 760.0]],
+            2.0,
+        );
+        for look in [Dirty::all(w, h), tiles] {
+            let one = row_crossings(&polylines, &boxes, &lines, &look, h, false);
+            let banded = pool.install(|| row_crossings(&polylines, &boxes, &lines, &look, h, true));
+            assert!(one.iter().map(Vec::len).sum::<usize>() > 1000);
+            for (r, (a, b)) in one.iter().zip(&banded).enumerate() {
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(a), bits(b), "row {r}");
+            }
+        }
+    }
 
     /// A 2 × 2-cell checkerboard checked against the outline of diagonal stripes (what
     /// it was once traced as: every pixel within 1 px of an outline, a quarter of them
