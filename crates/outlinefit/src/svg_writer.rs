@@ -247,6 +247,29 @@ impl PathData {
     }
 }
 
+/// Room for the decimal digits of any u128 (39) with up to [`MAX_PRECISION`] + 1 zeros in
+/// front.
+const DIGITS: usize = 56;
+
+/// Writes the decimal digits of `v`, at least `min` of them (zeros in front), at the end
+/// of `buf`; returns how many.
+fn write_digits(mut v: u128, min: usize, buf: &mut [u8; DIGITS]) -> usize {
+    let mut len = 0;
+    // u64 arithmetic once the value fits: u128 division is a library call.
+    while v > u128::from(u64::MAX) {
+        len += 1;
+        buf[DIGITS - len] = b'0' + (v % 10) as u8;
+        v /= 10;
+    }
+    let mut v = v as u64;
+    while v > 0 || len < min {
+        len += 1;
+        buf[DIGITS - len] = b'0' + (v % 10) as u8;
+        v /= 10;
+    }
+    len
+}
+
 /// Grid units per picture unit on the grid of `precision` decimals (at most
 /// [`MAX_PRECISION`]): 10^precision. A document whose path data is written in grid units
 /// ([`PathUnits::Grid`]) scales its `viewBox` by this.
@@ -346,39 +369,39 @@ impl CompactPath {
     }
 
     /// Writes `units` grid units: as a decimal number in picture units, or as itself.
+    /// Without allocating: a page of text writes a quarter of a million numbers.
     pub(crate) fn number(&mut self, units: i128) {
         let p = self.decimals;
-        let digits = format!("{:0width$}", units.unsigned_abs(), width = p + 1);
-        let (int, frac) = digits.split_at(digits.len() - p);
-        let frac = frac.trim_end_matches('0');
-        let mut text = String::new();
-        if units < 0 {
-            text.push('-');
-        }
+        // The magnitude's digits, at least p + 1 of them (zeros in front).
+        let mut buf = [b'0'; DIGITS];
+        let len = write_digits(units.unsigned_abs(), p + 1, &mut buf);
+        let digits = &buf[DIGITS - len..];
+        let (int, frac) = digits.split_at(len - p);
+        let frac = &frac[..frac.iter().rposition(|&d| d != b'0').map_or(0, |k| k + 1)];
         // `0.5` as `.5`.
-        if int != "0" || frac.is_empty() {
-            text.push_str(int);
-        }
-        if !frac.is_empty() {
-            text.push('.');
-            text.push_str(frac);
-        }
-        let starts_with_point = text.starts_with('.');
+        let with_int = int != b"0" || frac.is_empty();
         let separator = match self.last {
             Last::Command => false,
-            _ if text.starts_with('-') => false,
-            Last::Decimal => !starts_with_point,
+            _ if units < 0 => false,
+            Last::Decimal => with_int,
             Last::Integer => true,
         };
         if separator {
             self.out.push(' ');
         }
-        self.last = if text.contains('.') {
-            Last::Decimal
+        if units < 0 {
+            self.out.push('-');
+        }
+        if with_int {
+            self.out.extend(int.iter().map(|&b| char::from(b)));
+        }
+        if frac.is_empty() {
+            self.last = Last::Integer;
         } else {
-            Last::Integer
-        };
-        self.out.push_str(&text);
+            self.out.push('.');
+            self.out.extend(frac.iter().map(|&b| char::from(b)));
+            self.last = Last::Decimal;
+        }
     }
 
     /// The `d` attribute.
@@ -417,6 +440,64 @@ mod tests {
         assert_eq!(decimals_for(1.0), 0);
         assert_eq!(decimals_for(0.0), MAX_PRECISION);
         assert_eq!(decimals_for(f64::NAN), MAX_PRECISION);
+    }
+
+    /// The path's numbers are what formatting each through a string gives (the way they
+    /// were first written): sign, zeros, the dropped leading `0` and the separators, for
+    /// magnitudes up to the largest i128 and every number of decimals.
+    #[test]
+    fn compact_numbers_match_formatting_through_strings() {
+        fn reference(units: i128, p: usize, last: &mut Last, out: &mut String) {
+            let digits = format!("{:0width$}", units.unsigned_abs(), width = p + 1);
+            let (int, frac) = digits.split_at(digits.len() - p);
+            let frac = frac.trim_end_matches('0');
+            let mut text = String::new();
+            if units < 0 {
+                text.push('-');
+            }
+            if int != "0" || frac.is_empty() {
+                text.push_str(int);
+            }
+            if !frac.is_empty() {
+                text.push('.');
+                text.push_str(frac);
+            }
+            let separator = match *last {
+                Last::Command => false,
+                _ if text.starts_with('-') => false,
+                Last::Decimal => !text.starts_with('.'),
+                Last::Integer => true,
+            };
+            if separator {
+                out.push(' ');
+            }
+            *last = if text.contains('.') {
+                Last::Decimal
+            } else {
+                Last::Integer
+            };
+            out.push_str(&text);
+        }
+        let mut values: Vec<i128> = vec![0, 1, -1, 5, -5, 10, 100, 1234, -1234, 1000000];
+        values.extend([u64::MAX as i128, -(u64::MAX as i128), u64::MAX as i128 + 1]);
+        values.extend([i128::MAX, i128::MIN + 1, i128::MIN]);
+        let mut x: i128 = 7;
+        for _ in 0..2000 {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            values.push(x >> (x.unsigned_abs() % 120) as u32);
+        }
+        for p in 0..=MAX_PRECISION {
+            let mut w = CompactPath::new(p, PathUnits::Picture);
+            w.command('m');
+            let (mut last, mut expected) = (Last::Command, String::from("m"));
+            for &v in &values {
+                w.number(v);
+                reference(v, p, &mut last, &mut expected);
+            }
+            assert_eq!(w.finish(), expected, "{p} decimals");
+        }
     }
 
     #[test]
