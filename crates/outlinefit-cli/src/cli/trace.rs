@@ -272,5 +272,9 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     }
     let outline = export(&result, format, &export_options)?;
     write_output(&resolved[0], |w| w.write_all(&outline))?;
+    // Everything is written and the process ends: its memory goes back to the system
+    // whole, so the trace's hundred thousand small allocations are not freed one by one
+    // (15 ms of a 600 dpi page).
+    std::mem::forget((result, bitmap, outline));
     Ok(0)
 }
