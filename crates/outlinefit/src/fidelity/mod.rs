@@ -315,11 +315,33 @@ fn deviation_bounds(contour: &FittedContour) -> Vec<f64> {
     bound
 }
 
+/// The crossings of the rows of an image with the drawn paths, all in one list (a page
+/// has a million; a list per row would hold up to twice their memory while it grows).
+struct RowCrossings {
+    /// The crossings of row r are `xs[start[r]..start[r + 1]]`.
+    xs: Vec<f64>,
+    start: Vec<usize>,
+}
+
+impl RowCrossings {
+    /// Each row's crossings, to be sorted and read in place.
+    fn rows_mut(&mut self) -> Vec<&mut [f64]> {
+        let mut rows = Vec::with_capacity(self.start.len().saturating_sub(1));
+        let mut rest = self.xs.as_mut_slice();
+        for w in self.start.windows(2) {
+            let (row, tail) = rest.split_at_mut(w[1] - w[0]);
+            rows.push(row);
+            rest = tail;
+        }
+        rows
+    }
+}
+
 /// The x of every crossing of the drawn paths `lines` (indices into `polylines`, whose
 /// boxes are `boxes`) with the centre line y = r + 0.5 of each row r < `h` that `look`
-/// looks at: per row, in path and edge order. On a large outline the rows are filled in
-/// [`CROSSING_BANDS`] bands in parallel, each band visiting the paths whose boxes reach
-/// it, with the same lists.
+/// looks at: per row, in path and edge order. On a large outline the rows are counted,
+/// then filled, in [`CROSSING_BANDS`] bands in parallel, each band visiting the paths
+/// whose boxes reach it; the lists are the same.
 fn row_crossings(
     polylines: &[Vec<Vertex>],
     boxes: &[Option<[f64; 4]>],
@@ -327,47 +349,100 @@ fn row_crossings(
     look: &Dirty,
     h: usize,
     parallel: bool,
-) -> Vec<Vec<f64>> {
-    let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); h];
-    let fill_band = |first: usize, rows: &mut [Vec<f64>]| {
-        let (top, bottom) = (first as f64, (first + rows.len()) as f64);
-        for &i in lines {
-            if let Some([_, y0, _, y1]) = boxes[i] {
-                if y1 < top || y0 > bottom + 1.0 {
-                    continue;
-                }
-            }
-            for k in 0..polylines[i].len() as u32 {
-                let Edge { a, b, .. } = edge_of(polylines, (i as u32, k));
-                if a.y == b.y {
-                    continue;
-                }
-                let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
-                // Rows whose centre y = r + 0.5 lies in [lo.y, hi.y), within the band.
-                let r0 = (lo.y - 0.5).ceil().max(top);
-                let r1 = (hi.y - 0.5).ceil().min(bottom);
-                let mut r = r0;
-                while r < r1 {
-                    if !look.spans(r as usize).is_empty() {
-                        let y = r + 0.5;
-                        let x = lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
-                        rows[r as usize - first].push(x);
-                    }
-                    r += 1.0;
-                }
-            }
-        }
+) -> RowCrossings {
+    let band = if parallel {
+        CROSSING_BAND.max(h.div_ceil(CROSSING_BANDS))
+    } else {
+        h.max(1)
+    };
+    let visit = |first: usize, end: usize, emit: &mut dyn FnMut(usize, f64)| {
+        band_crossings(polylines, boxes, lines, look, first, end, emit);
+    };
+    let mut count = vec![0usize; h + 1];
+    let count_band = |k: usize, rows: &mut [usize]| {
+        let first = k * band;
+        visit(first, first + rows.len(), &mut |r, _| rows[r - first] += 1);
     };
     if parallel {
-        let band = CROSSING_BAND.max(h.div_ceil(CROSSING_BANDS));
-        crossings
+        count[..h]
             .par_chunks_mut(band)
             .enumerate()
-            .for_each(|(k, rows)| fill_band(k * band, rows));
+            .for_each(|(k, rows)| count_band(k, rows));
     } else {
-        fill_band(0, &mut crossings);
+        count_band(0, &mut count[..h]);
     }
-    crossings
+    // Counts to starts.
+    let mut total = 0;
+    for c in count.iter_mut() {
+        let n = *c;
+        *c = total;
+        total += n;
+    }
+    let start = count;
+    let mut xs = vec![0.0; total];
+    let mut parts = Vec::new();
+    let mut rest = xs.as_mut_slice();
+    for first in (0..h).step_by(band) {
+        let end = (first + band).min(h);
+        let (part, tail) = rest.split_at_mut(start[end] - start[first]);
+        parts.push((first, end, part));
+        rest = tail;
+    }
+    let fill_band = |(first, end, part): (usize, usize, &mut [f64])| {
+        let base = start[first];
+        let mut next: Vec<usize> = start[first..end].iter().map(|s| s - base).collect();
+        visit(first, end, &mut |r, x| {
+            part[next[r - first]] = x;
+            next[r - first] += 1;
+        });
+    };
+    if parallel {
+        parts.into_par_iter().for_each(fill_band);
+    } else {
+        parts.into_iter().for_each(fill_band);
+    }
+    RowCrossings { xs, start }
+}
+
+/// Gives `emit` every crossing (row, x) of the paths `lines` with the centre lines of the
+/// rows `first..end` that `look` looks at, in path and edge order (see
+/// [`row_crossings`]).
+fn band_crossings(
+    polylines: &[Vec<Vertex>],
+    boxes: &[Option<[f64; 4]>],
+    lines: &[usize],
+    look: &Dirty,
+    first: usize,
+    end: usize,
+    emit: &mut dyn FnMut(usize, f64),
+) {
+    let (top, bottom) = (first as f64, end as f64);
+    for &i in lines {
+        if let Some([_, y0, _, y1]) = boxes[i] {
+            if y1 < top || y0 > bottom + 1.0 {
+                continue;
+            }
+        }
+        for k in 0..polylines[i].len() as u32 {
+            let Edge { a, b, .. } = edge_of(polylines, (i as u32, k));
+            if a.y == b.y {
+                continue;
+            }
+            let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+            // Rows whose centre y = r + 0.5 lies in [lo.y, hi.y), within the band.
+            let r0 = (lo.y - 0.5).ceil().max(top);
+            let r1 = (hi.y - 0.5).ceil().min(bottom);
+            let mut r = r0;
+            while r < r1 {
+                if !look.spans(r as usize).is_empty() {
+                    let y = r + 0.5;
+                    let x = lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
+                    emit(r as usize, x);
+                }
+                r += 1.0;
+            }
+        }
+    }
 }
 
 /// The first column after `col` whose centre lies at or beyond the crossing `x` (at most
@@ -597,7 +672,8 @@ pub(crate) fn check_again(
         };
     let (mut far_pixels, mut near_pixels): (Vec<u32>, Vec<u32>) = if parallel {
         let rows: Vec<(Vec<u32>, Vec<u32>)> = crossings
-            .par_iter_mut()
+            .rows_mut()
+            .into_par_iter()
             .enumerate()
             .map_init(
                 || vec![0.0; w],
@@ -617,7 +693,7 @@ pub(crate) fn check_again(
     } else {
         let mut coverage = vec![0.0; w];
         let mut out = (Vec::new(), Vec::new());
-        for (row, xs) in crossings.iter_mut().enumerate() {
+        for (row, xs) in crossings.rows_mut().into_iter().enumerate() {
             far_in_row(row, xs, &mut coverage, &mut out);
         }
         out
@@ -891,10 +967,17 @@ mod tests {
             2.0,
         );
         for look in [Dirty::all(w, h), tiles] {
-            let one = row_crossings(&polylines, &boxes, &lines, &look, h, false);
-            let banded = pool.install(|| row_crossings(&polylines, &boxes, &lines, &look, h, true));
-            assert!(one.iter().map(Vec::len).sum::<usize>() > 1000);
-            for (r, (a, b)) in one.iter().zip(&banded).enumerate() {
+            let mut one = row_crossings(&polylines, &boxes, &lines, &look, h, false);
+            let mut banded =
+                pool.install(|| row_crossings(&polylines, &boxes, &lines, &look, h, true));
+            assert!(one.xs.len() > 1000);
+            assert_eq!(one.start, banded.start);
+            for (r, (a, b)) in one
+                .rows_mut()
+                .into_iter()
+                .zip(banded.rows_mut())
+                .enumerate()
+            {
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(a), bits(b), "row {r}");
             }
