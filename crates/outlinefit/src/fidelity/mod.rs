@@ -315,33 +315,14 @@ fn deviation_bounds(contour: &FittedContour) -> Vec<f64> {
     bound
 }
 
-/// The crossings of the rows of an image with the drawn paths, all in one list (a page
-/// has a million; a list per row would hold up to twice their memory while it grows).
-struct RowCrossings {
-    /// The crossings of row r are `xs[start[r]..start[r + 1]]`.
-    xs: Vec<f64>,
-    start: Vec<usize>,
-}
-
-impl RowCrossings {
-    /// Each row's crossings, to be sorted and read in place.
-    fn rows_mut(&mut self) -> Vec<&mut [f64]> {
-        let mut rows = Vec::with_capacity(self.start.len().saturating_sub(1));
-        let mut rest = self.xs.as_mut_slice();
-        for w in self.start.windows(2) {
-            let (row, tail) = rest.split_at_mut(w[1] - w[0]);
-            rows.push(row);
-            rest = tail;
-        }
-        rows
-    }
-}
-
 /// The x of every crossing of the drawn paths `lines` (indices into `polylines`, whose
 /// boxes are `boxes`) with the centre line y = r + 0.5 of each row r < `h` that `look`
 /// looks at: per row, in path and edge order. On a large outline the rows are counted,
 /// then filled, in [`CROSSING_BANDS`] bands in parallel, each band visiting the paths
-/// whose boxes reach it; the lists are the same.
+/// whose boxes reach it; the lists are the same. Each row's list is made at its size on
+/// the calling thread before it is filled: lists grown by doubling on the worker threads
+/// took up to twice the memory, and left it in the workers' heaps when freed, where the
+/// rest of the trace cannot reuse it (the 600 dpi scan's peak rose by 2 to 5 MB).
 fn row_crossings(
     polylines: &[Vec<Vertex>],
     boxes: &[Option<[f64; 4]>],
@@ -349,7 +330,7 @@ fn row_crossings(
     look: &Dirty,
     h: usize,
     parallel: bool,
-) -> RowCrossings {
+) -> Vec<Vec<f64>> {
     let band = if parallel {
         CROSSING_BAND.max(h.div_ceil(CROSSING_BANDS))
     } else {
@@ -358,50 +339,35 @@ fn row_crossings(
     let visit = |first: usize, end: usize, emit: &mut dyn FnMut(usize, f64)| {
         band_crossings(polylines, boxes, lines, look, first, end, emit);
     };
-    let mut count = vec![0usize; h + 1];
+    let mut count = vec![0usize; h];
     let count_band = |k: usize, rows: &mut [usize]| {
         let first = k * band;
         visit(first, first + rows.len(), &mut |r, _| rows[r - first] += 1);
     };
+    let fill_band = |k: usize, rows: &mut [Vec<f64>]| {
+        let first = k * band;
+        visit(first, first + rows.len(), &mut |r, x| {
+            rows[r - first].push(x)
+        });
+    };
     if parallel {
-        count[..h]
+        count
             .par_chunks_mut(band)
             .enumerate()
             .for_each(|(k, rows)| count_band(k, rows));
     } else {
-        count_band(0, &mut count[..h]);
+        count_band(0, &mut count);
     }
-    // Counts to starts.
-    let mut total = 0;
-    for c in count.iter_mut() {
-        let n = *c;
-        *c = total;
-        total += n;
-    }
-    let start = count;
-    let mut xs = vec![0.0; total];
-    let mut parts = Vec::new();
-    let mut rest = xs.as_mut_slice();
-    for first in (0..h).step_by(band) {
-        let end = (first + band).min(h);
-        let (part, tail) = rest.split_at_mut(start[end] - start[first]);
-        parts.push((first, end, part));
-        rest = tail;
-    }
-    let fill_band = |(first, end, part): (usize, usize, &mut [f64])| {
-        let base = start[first];
-        let mut next: Vec<usize> = start[first..end].iter().map(|s| s - base).collect();
-        visit(first, end, &mut |r, x| {
-            part[next[r - first]] = x;
-            next[r - first] += 1;
-        });
-    };
+    let mut crossings: Vec<Vec<f64>> = count.into_iter().map(Vec::with_capacity).collect();
     if parallel {
-        parts.into_par_iter().for_each(fill_band);
+        crossings
+            .par_chunks_mut(band)
+            .enumerate()
+            .for_each(|(k, rows)| fill_band(k, rows));
     } else {
-        parts.into_iter().for_each(fill_band);
+        fill_band(0, &mut crossings);
     }
-    RowCrossings { xs, start }
+    crossings
 }
 
 /// Gives `emit` every crossing (row, x) of the paths `lines` with the centre lines of the
@@ -672,8 +638,7 @@ pub(crate) fn check_again(
         };
     let (mut far_pixels, mut near_pixels): (Vec<u32>, Vec<u32>) = if parallel {
         let rows: Vec<(Vec<u32>, Vec<u32>)> = crossings
-            .rows_mut()
-            .into_par_iter()
+            .par_iter_mut()
             .enumerate()
             .map_init(
                 || vec![0.0; w],
@@ -693,7 +658,7 @@ pub(crate) fn check_again(
     } else {
         let mut coverage = vec![0.0; w];
         let mut out = (Vec::new(), Vec::new());
-        for (row, xs) in crossings.rows_mut().into_iter().enumerate() {
+        for (row, xs) in crossings.iter_mut().enumerate() {
             far_in_row(row, xs, &mut coverage, &mut out);
         }
         out
@@ -967,17 +932,12 @@ mod tests {
             2.0,
         );
         for look in [Dirty::all(w, h), tiles] {
-            let mut one = row_crossings(&polylines, &boxes, &lines, &look, h, false);
-            let mut banded =
-                pool.install(|| row_crossings(&polylines, &boxes, &lines, &look, h, true));
-            assert!(one.xs.len() > 1000);
-            assert_eq!(one.start, banded.start);
-            for (r, (a, b)) in one
-                .rows_mut()
-                .into_iter()
-                .zip(banded.rows_mut())
-                .enumerate()
-            {
+            let one = row_crossings(&polylines, &boxes, &lines, &look, h, false);
+            let banded = pool.install(|| row_crossings(&polylines, &boxes, &lines, &look, h, true));
+            assert!(one.iter().map(Vec::len).sum::<usize>() > 1000);
+            for (r, (a, b)) in one.iter().zip(&banded).enumerate() {
+                // Made at their size: no list grew (or shrank) while it was filled.
+                assert_eq!((a.capacity(), b.capacity()), (a.len(), b.len()), "row {r}");
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(a), bits(b), "row {r}");
             }
