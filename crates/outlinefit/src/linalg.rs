@@ -55,6 +55,19 @@ pub(crate) fn solve_augmented<const N: usize, const W: usize>(
     n: usize,
     singular: Singular,
 ) -> Option<[f64; N]> {
+    if n == 2 {
+        return solve_two(m, singular);
+    }
+    solve_general(m, n, singular)
+}
+
+/// [`solve_augmented`] for any `n`: elimination with partial pivoting, then back
+/// substitution.
+fn solve_general<const N: usize, const W: usize>(
+    m: &mut [[f64; W]; N],
+    n: usize,
+    singular: Singular,
+) -> Option<[f64; N]> {
     let rhs = W - 1;
     for col in 0..n {
         let mut piv = col;
@@ -99,9 +112,108 @@ pub(crate) fn solve_augmented<const N: usize, const W: usize>(
     }
 }
 
+/// [`solve_augmented`] of two unknowns, written out: the same operations in the same
+/// order, so the same bits (the segment fit's tangent lengths are two unknowns, solved a
+/// few million times on a page). The zero columns between the two unknowns and the
+/// right-hand side are left alone: the general loop only ever subtracts zeros from them,
+/// and no step reads them.
+#[inline]
+fn solve_two<const N: usize, const W: usize>(
+    m: &mut [[f64; W]; N],
+    singular: Singular,
+) -> Option<[f64; N]> {
+    let rhs = W - 1;
+    let zero_pivot = |p: f64| match singular {
+        Singular::SkipColumn => p.abs() < 1e-300,
+        Singular::Fail => p.is_nan() || p.abs() <= 1e-300,
+    };
+    if m[1][0].abs() > m[0][0].abs() {
+        m.swap(0, 1);
+    }
+    let p = m[0][0];
+    if zero_pivot(p) {
+        if singular == Singular::Fail {
+            return None;
+        }
+    } else {
+        let f = m[1][0] / p;
+        if !(singular == Singular::SkipColumn && f == 0.0) {
+            m[1][0] -= f * m[0][0];
+            m[1][1] -= f * m[0][1];
+            m[1][rhs] -= f * m[0][rhs];
+        }
+    }
+    if singular == Singular::Fail && zero_pivot(m[1][1]) {
+        return None;
+    }
+    let solve = |s: f64, p: f64| match singular {
+        Singular::SkipColumn if p.abs() < 1e-300 => 0.0,
+        _ => s / p,
+    };
+    let mut x = [0.0; N];
+    x[1] = solve(m[1][rhs], m[1][1]);
+    x[0] = solve(m[0][rhs] - m[0][1] * x[1], m[0][0]);
+    match singular {
+        Singular::SkipColumn => Some(x),
+        Singular::Fail => x.iter().all(|v| v.is_finite()).then_some(x),
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{cramer2, det3, solve_augmented, Singular};
+    use super::{cramer2, det3, solve_augmented, solve_general, solve_two, Singular};
+
+    /// The written-out solve of two unknowns gives the general elimination's bits, for
+    /// both policies, on random systems (rows swapped or not) and on singular, tiny,
+    /// NaN and infinite ones.
+    #[test]
+    fn two_unknowns_match_the_general_elimination_bit_for_bit() {
+        let mut systems: Vec<[[f64; 5]; 4]> = Vec::new();
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0
+        };
+        for _ in 0..5000 {
+            let mut m = [[0.0; 5]; 4];
+            for row in m.iter_mut().take(2) {
+                row[0] = next();
+                row[1] = next();
+                row[4] = next();
+            }
+            systems.push(m);
+        }
+        let special = [0.0, -0.0, 1e-301, 1e-320, f64::NAN, f64::INFINITY, 1e300];
+        for &a in &special {
+            for &b in &special {
+                systems.push([
+                    [a, 1.0, 0.0, 0.0, 2.0],
+                    [b, 3.0, 0.0, 0.0, -1.0],
+                    [0.0; 5],
+                    [0.0; 5],
+                ]);
+                systems.push([
+                    [1.0, a, 0.0, 0.0, b],
+                    [2.0, 2.0 * a, 0.0, 0.0, 1.0],
+                    [0.0; 5],
+                    [0.0; 5],
+                ]);
+            }
+        }
+        let bits = |r: Option<[f64; 4]>| r.map(|v| v.map(f64::to_bits));
+        for m in systems {
+            for policy in [Singular::SkipColumn, Singular::Fail] {
+                let (mut a, mut b) = (m, m);
+                assert_eq!(
+                    bits(solve_two(&mut a, policy)),
+                    bits(solve_general(&mut b, 2, policy)),
+                    "{m:?} {policy:?}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn det3_of_known_matrices() {
