@@ -46,13 +46,12 @@ pub fn fit_segment_from(
     settings: &FitSettings,
     warm: Option<&[f64]>,
 ) -> SegmentSolution {
-    let mut params = centripetal_parameters(points);
     if points.len() < 3 {
         let (c0, c3) = (points[0], points[points.len() - 1]);
         let curve = straight_segment(c0, c3, start, end);
         return SegmentSolution {
             curve,
-            params,
+            params: centripetal_parameters(points),
             evaluations: 0,
         };
     }
@@ -61,6 +60,7 @@ pub fn fit_segment_from(
         // One interior point cannot determine a free handle (two unknowns each): the
         // normal equations are singular and their solution arbitrary (a loop far from
         // the points). Take the nearest curve to the straight one through the point.
+        let params = centripetal_parameters(points);
         let curve = bent_straight_segment(points, params[1], start, end);
         return SegmentSolution {
             curve,
@@ -68,10 +68,17 @@ pub fn fit_segment_from(
             evaluations: 1,
         };
     }
+    let warm = warm.filter(|w| w.len() == points.len());
+    // The working parameters: a warm start's own (each run copies its start in below),
+    // else the centripetal ones, which the first rule uses as they are.
+    let mut params = match warm {
+        Some(w) => w.to_vec(),
+        None => centripetal_parameters(points),
+    };
     let scale = run_scale(points);
     let mut evaluations = 0;
     let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
-    let inits: Vec<Vec<f64>> = match warm.filter(|w| w.len() == points.len()) {
+    let inits: Vec<Vec<f64>> = match warm {
         Some(w) => vec![w.to_vec()],
         None => settings
             .initial
