@@ -340,34 +340,35 @@ fn row_crossings(
         band_crossings(polylines, boxes, lines, look, first, end, emit);
     };
     let mut count = vec![0usize; h];
-    let count_band = |k: usize, rows: &mut [usize]| {
-        let first = k * band;
+    by_band(&mut count, band, parallel, |first, rows| {
         visit(first, first + rows.len(), &mut |r, _| rows[r - first] += 1);
-    };
-    let fill_band = |k: usize, rows: &mut [Vec<f64>]| {
-        let first = k * band;
+    });
+    let mut crossings: Vec<Vec<f64>> = count.into_iter().map(Vec::with_capacity).collect();
+    by_band(&mut crossings, band, parallel, |first, rows| {
         visit(first, first + rows.len(), &mut |r, x| {
             rows[r - first].push(x)
         });
-    };
-    if parallel {
-        count
-            .par_chunks_mut(band)
-            .enumerate()
-            .for_each(|(k, rows)| count_band(k, rows));
-    } else {
-        count_band(0, &mut count);
-    }
-    let mut crossings: Vec<Vec<f64>> = count.into_iter().map(Vec::with_capacity).collect();
-    if parallel {
-        crossings
-            .par_chunks_mut(band)
-            .enumerate()
-            .for_each(|(k, rows)| fill_band(k, rows));
-    } else {
-        fill_band(0, &mut crossings);
-    }
+    });
     crossings
+}
+
+/// Runs `f` on each band of `band` rows of `rows` with the index of its first row: on the
+/// thread pool when `parallel`, else one after the other.
+fn by_band<T: Send>(
+    rows: &mut [T],
+    band: usize,
+    parallel: bool,
+    f: impl Fn(usize, &mut [T]) + Sync,
+) {
+    if parallel {
+        rows.par_chunks_mut(band)
+            .enumerate()
+            .for_each(|(k, rows)| f(k * band, rows));
+    } else {
+        rows.chunks_mut(band)
+            .enumerate()
+            .for_each(|(k, rows)| f(k * band, rows));
+    }
 }
 
 /// Gives `emit` every crossing (row, x) of the paths `lines` with the centre lines of the
