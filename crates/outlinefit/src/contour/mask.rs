@@ -270,7 +270,8 @@ fn fill_words(bitmap: &Bitmap, pw: usize, h: usize, first: usize, words: &mut [u
     let w = bitmap.width() as usize;
     let (lo, hi) = (64 * first, 64 * (first + words.len()));
     let t = bitmap.threshold();
-    let mut row = vec![0.0; w];
+    let classes = bitmap.level_classes(|v| u8::from(f64::from(v) >= t));
+    let mut row = vec![0u8; w];
     // Padded row r + 1 holds image row r after one padding pixel.
     let rows = (lo / pw).max(1)..(hi.div_ceil(pw)).min(h + 1);
     for padded in rows {
@@ -279,13 +280,37 @@ fn fill_words(bitmap: &Bitmap, pw: usize, h: usize, first: usize, words: &mut [u
         if from >= to {
             continue;
         }
-        bitmap.read_row(padded - 1, &mut row);
-        for i in from..to {
-            if f64::from(row[i - start]) >= t {
-                let j = i - lo;
-                words[j >> 6] |= 1 << (j & 63);
-            }
+        bitmap.read_row_classes(padded - 1, 0, &classes, &mut row);
+        set_bits(words, from - lo, &row[from - start..to - start]);
+    }
+}
+
+/// Sets bit `at + k` of `words` for every `bits[k]` that is 1 (each is 0 or 1), a word
+/// at a time: 64 bytes are gathered into a register and written once, rather than 64
+/// read-modify-writes of one word that each wait for the one before.
+fn set_bits(words: &mut [u64], at: usize, bits: &[u8]) {
+    let (mut j, mut rest) = (at, bits);
+    // The first word, up to its end.
+    let lead = ((64 - j % 64) % 64).min(rest.len());
+    let (head, tail) = rest.split_at(lead);
+    for &b in head {
+        words[j >> 6] |= u64::from(b) << (j & 63);
+        j += 1;
+    }
+    rest = tail;
+    // Whole words.
+    let mut chunks = rest.chunks_exact(64);
+    for chunk in &mut chunks {
+        let mut word = 0u64;
+        for (k, &b) in chunk.iter().enumerate() {
+            word |= u64::from(b) << k;
         }
+        words[j >> 6] |= word;
+        j += 64;
+    }
+    for &b in chunks.remainder() {
+        words[j >> 6] |= u64::from(b) << (j & 63);
+        j += 1;
     }
 }
 

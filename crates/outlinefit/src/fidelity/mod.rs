@@ -590,20 +590,26 @@ pub(crate) fn check_again(
     let mut crossings = row_crossings(&polylines, &boxes, &lines, look, h, parallel);
     let threshold = bitmap.threshold();
     // On grey levels, a pixel near the threshold is undecided (an anti-aliased edge
-    // pixel); only decided ones count towards dense disagreement.
-    let decided = |v: f32| bitmap.is_bilevel() || (f64::from(v) - threshold).abs() >= UNDECIDED;
+    // pixel); only decided ones count towards dense disagreement. Each pixel is read as
+    // a class: FOREGROUND, and DECIDED.
+    const FOREGROUND: u8 = 1;
+    const DECIDED: u8 = 2;
+    let classes = bitmap.level_classes(|v| {
+        let decided = bitmap.is_bilevel() || (f64::from(v) - threshold).abs() >= UNDECIDED;
+        (u8::from(f64::from(v) >= threshold) * FOREGROUND) | (u8::from(decided) * DECIDED)
+    });
     // The far pixels of one row's spans, and its near disagreeing ones, given its
     // crossings (sorted here) and a buffer for its coverage.
     let far_in_row =
-        |row: usize, xs: &mut [f64], coverage: &mut [f32], out: &mut (Vec<u32>, Vec<u32>)| {
+        |row: usize, xs: &mut [f64], class: &mut [u8], out: &mut (Vec<u32>, Vec<u32>)| {
             let spans = look.spans(row);
             if spans.is_empty() {
                 return;
             }
             xs.sort_by(f64::total_cmp);
-            bitmap.read_row(row, coverage);
             let (mut next, mut inside) = (0, false);
             for &(from, to) in spans {
+                bitmap.read_row_classes(row, from, &classes, &mut class[from..to]);
                 let mut col = from;
                 while col < to {
                     // Crossings at or before this pixel's centre.
@@ -618,16 +624,17 @@ pub(crate) fn check_again(
                         Some(&x) => run_end(col, x, w).min(to),
                         None => to,
                     };
-                    let run = &coverage[col..end];
-                    let disagree = |v: f32| (f64::from(v) >= threshold) != inside;
-                    if run.iter().filter(|&&v| disagree(v)).count() > 0 {
-                        for (k, &v) in run.iter().enumerate().filter(|&(_, &v)| disagree(v)) {
+                    let run = &class[col..end];
+                    let side = u8::from(inside);
+                    let disagree = |c: u8| c & FOREGROUND != side;
+                    if run.iter().filter(|&&c| disagree(c)).count() > 0 {
+                        for (k, &c) in run.iter().enumerate().filter(|&(_, &c)| disagree(c)) {
                             let index = (row * w + col + k) as u32;
                             if !excused.contains(&index) {
                                 let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
                                 if !grid.any_within(centre, far_limit) {
                                     out.0.push(index);
-                                } else if decided(v) {
+                                } else if c & DECIDED != 0 {
                                     out.1.push(index);
                                 }
                             }
@@ -642,10 +649,10 @@ pub(crate) fn check_again(
             .par_iter_mut()
             .enumerate()
             .map_init(
-                || vec![0.0; w],
-                |coverage, (row, xs)| {
+                || vec![0u8; w],
+                |class, (row, xs)| {
                     let mut out = (Vec::new(), Vec::new());
-                    far_in_row(row, xs, coverage, &mut out);
+                    far_in_row(row, xs, class, &mut out);
                     out
                 },
             )
@@ -657,10 +664,10 @@ pub(crate) fn check_again(
         }
         all
     } else {
-        let mut coverage = vec![0.0; w];
+        let mut class = vec![0u8; w];
         let mut out = (Vec::new(), Vec::new());
         for (row, xs) in crossings.iter_mut().enumerate() {
-            far_in_row(row, xs, &mut coverage, &mut out);
+            far_in_row(row, xs, &mut class, &mut out);
         }
         out
     };

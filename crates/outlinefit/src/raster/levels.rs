@@ -85,6 +85,58 @@ impl Levels {
         }
     }
 
+    /// What `class` makes of every level (see [`Classes`]). Passes that only ask which
+    /// side of the threshold a pixel is on, or whether it is grey, read these classes
+    /// through [`Levels::read_classes`] instead of converting every pixel to a float and
+    /// comparing it: the same answer per level, decided once per level.
+    pub(super) fn classes(&self, class: impl Fn(f32) -> u8) -> Classes {
+        match self {
+            Levels::Byte(_, t) => {
+                let table: Vec<u8> = t.iter().map(|&v| class(v)).collect();
+                let bands = byte_bands(&table);
+                Classes { table, bands }
+            }
+            Levels::Word(_, t) => Classes {
+                table: t.iter().map(|&v| class(v)).collect(),
+                bands: None,
+            },
+        }
+    }
+
+    /// The classes of pixels `start..start + out.len()` written to `out` (zeros past the
+    /// end).
+    pub(super) fn read_classes(&self, start: usize, classes: &Classes, out: &mut [u8]) {
+        fn copy<L: Copy>(v: &[L], start: usize, out: &mut [u8], class: impl Fn(L) -> u8) {
+            let src = v.get(start..).unwrap_or(&[]);
+            let n = src.len().min(out.len());
+            for (o, &l) in out[..n].iter_mut().zip(&src[..n]) {
+                *o = class(l);
+            }
+            out[n..].fill(0);
+        }
+        match (self, &classes.bands) {
+            (Levels::Byte(v, _), Some(bands)) => copy(v, start, out, |l| {
+                // Comparisons only, so that it vectorises.
+                bands
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |c, (bit, &(lo, span, outside))| {
+                        let inside = l.wrapping_sub(lo) <= span;
+                        c | (u8::from(inside != outside) << bit)
+                    })
+            }),
+            (Levels::Byte(v, _), None) => {
+                let table: &[u8; 256] = classes.table[..].try_into().expect("8-bit levels");
+                copy(v, start, out, |l| table[usize::from(l)]);
+            }
+            (Levels::Word(v, _), _) => {
+                let table: &[u8; WORD_LEVELS] =
+                    classes.table[..].try_into().expect("16-bit levels");
+                copy(v, start, out, |l| table[usize::from(l)]);
+            }
+        }
+    }
+
     /// How many pixels have each coverage value: (value, count) for every level used.
     pub(super) fn histogram(&self) -> Vec<(f32, u64)> {
         fn used(table: &[f32], counts: impl Iterator<Item = u64>) -> Vec<(f32, u64)> {
@@ -122,6 +174,47 @@ impl Levels {
             }
         }
     }
+}
+
+/// A class (a byte of bits) for every level of a [`Levels`], made by [`Levels::classes`].
+#[derive(Clone, Debug)]
+pub(crate) struct Classes {
+    /// The class of each level.
+    table: Vec<u8>,
+    /// For 8-bit levels whose every class bit is set on one band of consecutive levels
+    /// (or off on one band), as the bits of a threshold or a grey range are when the
+    /// coverage is monotone in the byte: per bit, the band's first level, its length
+    /// minus one and whether the bit is set outside it. Reading classes is then
+    /// comparisons, without a table lookup per pixel.
+    bands: Option<[(u8, u8, bool); 8]>,
+}
+
+/// The bands of [`Classes::bands`] for a 256-entry table, when every bit has one.
+fn byte_bands(table: &[u8]) -> Option<[(u8, u8, bool); 8]> {
+    let mut bands = [(0u8, 255u8, false); 8];
+    for (bit, band) in bands.iter_mut().enumerate() {
+        let set: Vec<bool> = table.iter().map(|&c| c >> bit & 1 == 1).collect();
+        // A band of `on` levels: the first and last with the bit `on`, and every level
+        // between them the same.
+        let band_of = |on: bool| -> Option<(u8, u8)> {
+            let first = set.iter().position(|&b| b == on)?;
+            let last = set.iter().rposition(|&b| b == on)?;
+            set[first..=last]
+                .iter()
+                .all(|&b| b == on)
+                .then(|| (first as u8, (last - first) as u8))
+        };
+        *band = if !set.contains(&true) {
+            // Never set: inside an empty band… written as "set outside the full range".
+            (0, 255, true)
+        } else if let Some((lo, span)) = band_of(true) {
+            (lo, span, false)
+        } else {
+            let (lo, span) = band_of(false)?;
+            (lo, span, true)
+        };
+    }
+    Some(bands)
 }
 
 /// Pixels per chunk in which [`Levels::histogram`] counts a large 8-bit image in parallel.
@@ -214,6 +307,53 @@ mod tests {
         for (v, n) in counted {
             assert_eq!(n, plain[(v * 255.0).round() as usize], "level {v}");
         }
+    }
+
+    #[test]
+    fn classes_read_by_bands_are_the_table_lookup() {
+        // Coverage rising or falling with the byte (the usual grey images) gives every
+        // threshold-like bit one band, and the compared classes must be the table's; a
+        // coverage that is not monotone falls back to the table.
+        let pixels: Vec<u8> = (0..=255).chain((0..=255).rev()).collect();
+        let values: [fn(u8) -> f32; 3] = [
+            |l| f32::from(l) / 255.0,
+            |l| 1.0 - f32::from(l) / 255.0,
+            |l| f32::from(l % 7) / 6.0,
+        ];
+        let rules: [fn(f32) -> u8; 4] = [
+            |v| u8::from(v >= 0.5),
+            |v| u8::from(v >= 0.3) | u8::from(v > 0.05 && v < 0.95) << 1,
+            |v| u8::from(f64::from(v) >= 0.41) | u8::from((v - 0.41).abs() >= 0.1) << 1,
+            |v| u8::from(v > 2.0) | 1 << 3,
+        ];
+        for (k, value) in values.iter().enumerate() {
+            let levels = Levels::bytes(pixels.clone(), value);
+            for (r, rule) in rules.into_iter().enumerate() {
+                let classes = levels.classes(rule);
+                // The last rule's bits are constant: bands whatever the coverage.
+                assert_eq!(
+                    classes.bands.is_some(),
+                    k < 2 || r == 3,
+                    "values {k}, rule {r}"
+                );
+                let mut out = vec![9u8; pixels.len() + 3];
+                levels.read_classes(0, &classes, &mut out);
+                for (i, &l) in pixels.iter().enumerate() {
+                    assert_eq!(out[i], rule(levels.get(i).unwrap()), "level {l}");
+                }
+                assert_eq!(&out[pixels.len()..], &[0, 0, 0]);
+                // From an offset, as a row's span is read.
+                let mut part = vec![0u8; 10];
+                levels.read_classes(300, &classes, &mut part);
+                assert_eq!(part, out[300..310]);
+            }
+        }
+        // 16-bit levels read through their table.
+        let words = Levels::quantised(vec![0, 30000, 65535]);
+        let classes = words.classes(|v| u8::from(v >= 0.4));
+        let mut out = [7u8; 3];
+        words.read_classes(0, &classes, &mut out);
+        assert_eq!(out, [0, 1, 1]);
     }
 
     #[test]

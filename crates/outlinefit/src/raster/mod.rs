@@ -37,6 +37,7 @@
 use crate::error::{Error, Result};
 use crate::geom::Point;
 use image::{DynamicImage, GenericImageView, GrayImage, ImageDecoder, ImageReader, Limits};
+pub(crate) use levels::Classes;
 use levels::Levels;
 use std::borrow::Cow;
 use std::path::Path;
@@ -307,9 +308,25 @@ impl Bitmap {
         out
     }
 
-    /// The coverage of row `row` written to `out` (`width` values; zeros past the end).
-    pub(crate) fn read_row(&self, row: usize, out: &mut [f32]) {
-        self.coverage.read(row * self.width as usize, out);
+    /// A class (a byte) for every coverage level of the image: `class` of that level's
+    /// coverage (see [`Bitmap::read_row_classes`]).
+    pub(crate) fn level_classes(&self, class: impl Fn(f32) -> u8) -> Classes {
+        self.coverage.classes(class)
+    }
+
+    /// The classes of row `row`'s pixels from column `col` on, from a table made by
+    /// [`Bitmap::level_classes`], written to `out` (at most `width − col` values; zeros
+    /// past the image's end). A pixel's class is exactly `class` of its coverage.
+    pub(crate) fn read_row_classes(
+        &self,
+        row: usize,
+        col: usize,
+        classes: &Classes,
+        out: &mut [u8],
+    ) {
+        debug_assert!(col + out.len() <= self.width as usize);
+        self.coverage
+            .read_classes(row * self.width as usize + col, classes, out);
     }
 
     /// Coverage of pixel (col, row); 0 outside the image.
@@ -491,16 +508,19 @@ impl Bitmap {
         let w = self.width as usize;
         let rows = self.coverage.len() / w;
         let level = self.foreground_level();
+        let classes = self.level_classes(|v| {
+            (u8::from(v >= level) * FOREGROUND) | (u8::from(v > GREY_LO && v < GREY_HI) * GREY)
+        });
         let (mut edge, mut grey_edge) = (0u64, 0u64);
-        let (mut row, mut next) = (vec![0.0; w], vec![0.0; w]);
-        self.read_row(band.start, &mut row);
+        let (mut row, mut next) = (vec![0; w], vec![0; w]);
+        self.read_row_classes(band.start, 0, &classes, &mut row);
         for r in band {
-            let (e, g) = crossing_counts(&row[..w - 1], &row[1..], level);
+            let (e, g) = crossing_counts(&row[..w - 1], &row[1..]);
             edge += e;
             grey_edge += g;
             if r + 1 < rows {
-                self.read_row(r + 1, &mut next);
-                let (e, g) = crossing_counts(&row, &next, level);
+                self.read_row_classes(r + 1, 0, &classes, &mut next);
+                let (e, g) = crossing_counts(&row, &next);
                 edge += e;
                 grey_edge += g;
                 std::mem::swap(&mut row, &mut next);
@@ -537,17 +557,22 @@ impl Bitmap {
 /// crossings in parallel.
 const BILEVEL_BAND_PIXELS: usize = 1 << 20;
 
-/// Over pixel pairs (a[i], b[i]): twice the number of pairs that cross `level` (one on
-/// each side), and how many of those pixels are grey. Written as plain sums so that it
-/// vectorises.
-fn crossing_counts(a: &[f32], b: &[f32], level: f32) -> (u64, u64) {
-    let grey = |v: f32| u32::from(v > GREY_LO) & u32::from(v < GREY_HI);
+/// Class bit of a pixel at or above the foreground level (see [`crossing_counts`]).
+const FOREGROUND: u8 = 1;
+/// Class bit of a grey pixel: coverage strictly between [`GREY_LO`] and [`GREY_HI`].
+const GREY: u8 = 2;
+
+/// Over pixel pairs (a[i], b[i]) of classes ([`FOREGROUND`], [`GREY`] bits): twice the
+/// number of pairs that cross the threshold (one on each side), and how many of those
+/// pixels are grey. Written as plain sums of bytes so that it vectorises.
+fn crossing_counts(a: &[u8], b: &[u8]) -> (u64, u64) {
+    let grey = |c: u8| u32::from(c >> 1);
     let (mut edge, mut grey_edge) = (0u64, 0u64);
     // u32 partial sums cannot overflow within a chunk.
     for (ca, cb) in a.chunks(1 << 20).zip(b.chunks(1 << 20)) {
         let (mut e, mut g) = (0u32, 0u32);
         for (&x, &y) in ca.iter().zip(cb) {
-            let crossing = u32::from((x >= level) != (y >= level));
+            let crossing = u32::from((x ^ y) & FOREGROUND);
             e += crossing;
             g += crossing * (grey(x) + grey(y));
         }
