@@ -114,17 +114,27 @@ impl Levels {
             }
             out[n..].fill(0);
         }
+        /// The class of level `l` from the bands of its first `N` bits (the others are
+        /// never set): comparisons only, so that it vectorises.
+        #[inline(always)]
+        fn banded<const N: usize>(bands: &[(u8, u8, bool); 8], l: u8) -> u8 {
+            let mut c = 0;
+            for (bit, &(lo, span, outside)) in bands[..N].iter().enumerate() {
+                let inside = l.wrapping_sub(lo) <= span;
+                c |= u8::from(inside != outside) << bit;
+            }
+            c
+        }
         match (self, &classes.bands) {
-            (Levels::Byte(v, _), Some(bands)) => copy(v, start, out, |l| {
-                // Comparisons only, so that it vectorises.
-                bands
-                    .iter()
-                    .enumerate()
-                    .fold(0u8, |c, (bit, &(lo, span, outside))| {
-                        let inside = l.wrapping_sub(lo) <= span;
-                        c | (u8::from(inside != outside) << bit)
-                    })
-            }),
+            (Levels::Byte(v, _), Some(bands)) => {
+                let used = classes.table.iter().fold(0, |a, &c| a | c);
+                match 8 - used.leading_zeros() {
+                    0 | 1 => copy(v, start, out, |l| banded::<1>(bands, l)),
+                    2 => copy(v, start, out, |l| banded::<2>(bands, l)),
+                    3 => copy(v, start, out, |l| banded::<3>(bands, l)),
+                    _ => copy(v, start, out, |l| banded::<8>(bands, l)),
+                }
+            }
             (Levels::Byte(v, _), None) => {
                 let table: &[u8; 256] = classes.table[..].try_into().expect("8-bit levels");
                 copy(v, start, out, |l| table[usize::from(l)]);
