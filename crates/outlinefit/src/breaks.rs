@@ -190,6 +190,34 @@ fn corner_angles(points: &[Point], s: &[f64], total: f64, h: f64) -> Vec<f64> {
         .collect()
 }
 
+/// Marks every point whose arc distance (the shorter way round a closed contour of
+/// length `total`, arc positions `s`) to one of `centres` is at most `reach`. Each centre
+/// walks outwards both ways while its points are within reach, so the cost is the points
+/// marked, not the points times the centres.
+fn within_reach(s: &[f64], total: f64, centres: &[usize], reach: f64) -> Vec<bool> {
+    let n = s.len();
+    let mut near = vec![false; n];
+    let close = |c: usize, j: usize| {
+        let d = (s[c] - s[j]).abs();
+        d.min(total - d) <= reach
+    };
+    for &c in centres {
+        // The arc distance grows along each direction until the walks meet on the far
+        // side, so each walk stops at its first point out of reach.
+        for step in [1, n - 1] {
+            let mut j = c;
+            for _ in 0..n {
+                if !close(c, j) {
+                    break;
+                }
+                near[j] = true;
+                j = (j + step) % n;
+            }
+        }
+    }
+    near
+}
+
 /// Largest distance from the polygon's points with arc position in [from, to] (relative to
 /// point i) to the line through `a` and `b`.
 #[allow(clippy::too_many_arguments)]
@@ -337,7 +365,8 @@ pub(crate) fn find_breaks(
                 out.push(x);
                 out_corners.push(out.len() - 1);
             } else if !skip[i] {
-                if corners.contains(&i) {
+                // `corners` is in increasing order.
+                if corners.binary_search(&i).is_ok() {
                     out_corners.push(out.len());
                 }
                 out.push(src[i]);
@@ -373,12 +402,8 @@ pub(crate) fn find_breaks(
             }
             true
         };
-        let near_corner = |i: usize| {
-            corner_idx.iter().any(|&c| {
-                let d = (s[c] - s[i]).abs();
-                d.min(total - d) <= 2.0 * h
-            })
-        };
+        let near = within_reach(&s, total, &corner_idx, 2.0 * h);
+        let near_corner = |i: usize| near[i];
         let floor = opts.bend_floor;
         for i in 0..n {
             if near_corner(i) {
@@ -645,6 +670,38 @@ fn push_break(breaks: &mut Vec<Break>, points: &[Point], b: Break) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn points_within_reach_of_centres_are_those_of_the_direct_test() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for case in 0..200 {
+            let n = rng.random_range(3..120);
+            // Arc positions with uneven steps, some of them zero (repeated points).
+            let mut s = vec![0.0];
+            for _ in 1..n {
+                let step = if rng.random_bool(0.1) {
+                    0.0
+                } else {
+                    rng.random_range(0.1..3.0)
+                };
+                s.push(s[s.len() - 1] + step);
+            }
+            let total = s[n - 1] + rng.random_range(0.1..3.0);
+            let centres: Vec<usize> = (0..rng.random_range(0..6))
+                .map(|_| rng.random_range(0..n))
+                .collect();
+            let reach = rng.random_range(0.0..total * 0.7);
+            let near = within_reach(&s, total, &centres, reach);
+            for i in 0..n {
+                let direct = centres.iter().any(|&c| {
+                    let d = (s[c] - s[i]).abs();
+                    d.min(total - d) <= reach
+                });
+                assert_eq!(near[i], direct, "case {case}, point {i}");
+            }
+        }
+    }
 
     fn contour(points: Vec<Point>) -> Contour {
         Contour {
