@@ -566,13 +566,14 @@ const GREY: u8 = 2;
 /// number of pairs that cross the threshold (one on each side), and how many of those
 /// pixels are grey. Written as plain sums of bytes so that it vectorises.
 fn crossing_counts(a: &[u8], b: &[u8]) -> (u64, u64) {
-    let grey = |c: u8| u32::from(c >> 1);
+    let grey = |c: u8| u16::from(c >> 1);
     let (mut edge, mut grey_edge) = (0u64, 0u64);
-    // u32 partial sums cannot overflow within a chunk.
-    for (ca, cb) in a.chunks(1 << 20).zip(b.chunks(1 << 20)) {
-        let (mut e, mut g) = (0u32, 0u32);
+    // 16-bit partial sums (twice as many to a vector register as 32-bit ones) cannot
+    // overflow within a chunk: at most 2 × 2¹⁴ each.
+    for (ca, cb) in a.chunks(1 << 14).zip(b.chunks(1 << 14)) {
+        let (mut e, mut g) = (0u16, 0u16);
         for (&x, &y) in ca.iter().zip(cb) {
-            let crossing = u32::from((x ^ y) & FOREGROUND);
+            let crossing = u16::from((x ^ y) & FOREGROUND);
             e += crossing;
             g += crossing * (grey(x) + grey(y));
         }
@@ -1208,6 +1209,36 @@ mod tests {
             from_image(&grey, &forced(AlphaRule::Alpha)),
             Err(Error::InvalidOption { name: "alpha", .. })
         ));
+    }
+
+    #[test]
+    fn crossing_counts_of_long_rows_are_the_direct_counts() {
+        // Rows longer than one chunk of 16-bit partial sums, every pair crossing in the
+        // worst case, and random classes.
+        let n = 3 * (1 << 14) + 77;
+        let all_fg = vec![FOREGROUND | GREY; n];
+        let all_bg = vec![GREY; n];
+        assert_eq!(
+            crossing_counts(&all_fg, &all_bg),
+            (2 * n as u64, 2 * n as u64)
+        );
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as u8 & (FOREGROUND | GREY)
+        };
+        let a: Vec<u8> = (0..n).map(|_| next()).collect();
+        let b: Vec<u8> = (0..n).map(|_| next()).collect();
+        let (mut edge, mut grey) = (0u64, 0u64);
+        for (&x, &y) in a.iter().zip(&b) {
+            if (x & FOREGROUND) != (y & FOREGROUND) {
+                edge += 2;
+                grey += u64::from(x & GREY != 0) + u64::from(y & GREY != 0);
+            }
+        }
+        assert_eq!(crossing_counts(&a, &b), (edge, grey));
     }
 
     #[test]
