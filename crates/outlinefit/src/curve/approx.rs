@@ -38,6 +38,7 @@
 //! non-finite cubics rather than an error; callers that write files check for that.
 
 use super::cubic::{end_direction, start_direction, CubicBez};
+use super::power::{PowerCubic, CONVERGED_STEP, EXACT_STEP};
 use super::RationalCubic;
 use crate::geom::Point;
 use crate::linalg::cramer2;
@@ -250,10 +251,13 @@ fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> Cub
     let chord_third = c0.distance(c3) / 3.0;
     let mut params = chord_length_params(c0, &samples, c3);
     let mut lengths = family.solve(&samples, &params, None, (chord_third, chord_third));
+    // Projections go through the cubic's power form, made once per round (what
+    // `CubicBez::refine_projection` makes at every call).
+    let power = |cubic: &CubicBez| PowerCubic::polynomial(&cubic.points);
     for _ in 0..CORRECTION_ROUNDS {
-        let cubic = family.cubic(lengths);
+        let cubic = power(&family.cubic(lengths));
         for (s, &q) in params.iter_mut().zip(&samples) {
-            *s = cubic.refine_projection(q, *s).0;
+            *s = cubic.refine_projection(q, *s, CONVERGED_STEP).0;
         }
         lengths = family.solve(&samples, &params, None, lengths);
     }
@@ -262,10 +266,11 @@ fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> Cub
     let mut best = (f64::INFINITY, lengths, params.clone());
     for round in 0..POLISH_ROUNDS {
         let cubic = family.cubic(lengths);
+        let projected = power(&cubic);
         let mut worst: f64 = 0.0;
         let mut total = 0.0;
         for (i, &q) in samples.iter().enumerate() {
-            let (t, d) = cubic.refine_projection(q, params[i]);
+            let (t, d) = projected.refine_projection(q, params[i], CONVERGED_STEP);
             params[i] = t;
             if d.is_nan() {
                 worst = f64::NAN;
@@ -307,6 +312,9 @@ fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> Cub
 /// larger distance, so the shortcut errs towards splitting.
 fn check_distance(curve: &RationalCubic, fit: &CubicFit) -> f64 {
     let n = FIT_INTERVALS;
+    // Both curves' power forms made once (each projection call would make its own).
+    let cubic = PowerCubic::polynomial(&fit.cubic.points);
+    let rational = curve.power_form();
     let mut worst: f64 = 0.0;
     for k in 0..n {
         let (u0, u1) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
@@ -315,8 +323,8 @@ fn check_distance(curve: &RationalCubic, fit: &CubicFit) -> f64 {
         // The fit samples (k > 0) and the midpoints between them; the ends match exactly.
         let pairs = [(um, sm), (u0, s0)];
         for &(u, s) in &pairs[..if k > 0 { 2 } else { 1 }] {
-            let d1 = fit.cubic.refine_projection(curve.eval(u), s).1;
-            let d2 = curve.refine_projection(fit.cubic.eval(s), u).1;
+            let d1 = cubic.refine_projection(curve.eval(u), s, CONVERGED_STEP).1;
+            let d2 = rational.refine_projection(fit.cubic.eval(s), u, EXACT_STEP).1;
             if d1.is_nan() || d2.is_nan() {
                 return f64::NAN;
             }
