@@ -324,7 +324,9 @@ fn check_distance(curve: &RationalCubic, fit: &CubicFit) -> f64 {
         let pairs = [(um, sm), (u0, s0)];
         for &(u, s) in &pairs[..if k > 0 { 2 } else { 1 }] {
             let d1 = cubic.refine_projection(curve.eval(u), s, CONVERGED_STEP).1;
-            let d2 = rational.refine_projection(fit.cubic.eval(s), u, EXACT_STEP).1;
+            let d2 = rational
+                .refine_projection(fit.cubic.eval(s), u, EXACT_STEP)
+                .1;
             if d1.is_nan() || d2.is_nan() {
                 return f64::NAN;
             }
