@@ -39,6 +39,9 @@ use super::levels::{self, Levels};
 use image::{DynamicImage, GenericImageView};
 use std::collections::VecDeque;
 
+/// Fewest pixels for which [`PaperMap::flatten`] runs on the thread pool.
+const PARALLEL_FLATTEN_PIXELS: usize = 1 << 20;
+
 /// How an image is thresholded.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -253,17 +256,31 @@ impl PaperMap {
     }
 
     /// The coverage with the paper divided out: (c − p)/(1 − p), clamped to [0, 1].
+    /// Rows are independent: a large image is flattened in parallel, each row the same
+    /// on any number of threads.
     pub(super) fn flatten(&self, coverage: &Levels, width: usize, height: usize) -> Levels {
-        let mut out = Vec::with_capacity(width * height);
-        let (mut row, mut paper) = (vec![0.0f32; width], vec![0.0f32; width]);
-        for y in 0..height {
-            coverage.read(y * width, &mut row);
-            self.level_row(y, &mut paper);
-            out.extend(
-                row.iter()
-                    .zip(&paper)
-                    .map(|(&c, &p)| levels::quantise((c - p) / (1.0 - p))),
-            );
+        let mut out = vec![0u16; width * height];
+        if width == 0 {
+            return Levels::quantised(out);
+        }
+        let buffers = || (vec![0.0f32; width], vec![0.0f32; width]);
+        let flatten_row = |(row, paper): &mut (Vec<f32>, Vec<f32>), y: usize, out: &mut [u16]| {
+            coverage.read(y * width, row);
+            self.level_row(y, paper);
+            for ((o, &c), &p) in out.iter_mut().zip(row.iter()).zip(paper.iter()) {
+                *o = levels::quantise((c - p) / (1.0 - p));
+            }
+        };
+        if width * height >= PARALLEL_FLATTEN_PIXELS {
+            use rayon::prelude::*;
+            out.par_chunks_mut(width)
+                .enumerate()
+                .for_each_init(buffers, |buf, (y, o)| flatten_row(buf, y, o));
+        } else {
+            let mut buf = buffers();
+            for (y, o) in out.chunks_mut(width).enumerate() {
+                flatten_row(&mut buf, y, o);
+            }
         }
         Levels::quantised(out)
     }
@@ -344,6 +361,30 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A page large enough to be flattened on the thread pool gives, pixel for pixel,
+    /// the serial formula (c − p)/(1 − p) of its coverage and the map's paper level.
+    #[test]
+    fn a_large_page_flattened_in_parallel_is_the_row_by_row_formula() {
+        let (w, h) = (1301, 900);
+        assert!(w * h >= PARALLEL_FLATTEN_PIXELS);
+        let page = lit_page(w, h, 0.05, 0.6);
+        let cov = levels_of(&page);
+        let map = PaperMap::new(&cov, w, h);
+        let flat = map.flatten(&cov, w, h);
+        let (mut row, mut paper, mut got) = (vec![0.0; w], vec![0.0; w], vec![0.0; w]);
+        for y in 0..h {
+            cov.read(y * w, &mut row);
+            map.level_row(y, &mut paper);
+            flat.read(y * w, &mut got);
+            for x in 0..w {
+                let want = levels::quantise((row[x] - paper[x]) / (1.0 - paper[x]));
+                let want = f32::from(want) / 65535.0;
+                assert_eq!(got[x].to_bits(), want.to_bits(), "({x}, {y})");
+            }
+        }
+        assert_eq!(flat.len(), w * h);
     }
 
     /// The gradient page in green instead of grey is a drawing's colour, not lit paper.
