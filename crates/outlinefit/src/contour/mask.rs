@@ -530,6 +530,25 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    #[test]
+    fn bits_set_a_word_at_a_time_are_those_set_one_by_one() {
+        // Every start within a word and lengths across zero, one and several words.
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for at in 0..130 {
+            for len in [0, 1, 5, 63, 64, 65, 127, 128, 200, 333] {
+                let bits: Vec<u8> = (0..len).map(|_| rng.random_range(0..2u8)).collect();
+                let mut words = vec![0x8000_0000_0000_0001u64; 10];
+                let mut direct = words.clone();
+                set_bits(&mut words, at, &bits);
+                for (k, &b) in bits.iter().enumerate() {
+                    let j = at + k;
+                    direct[j >> 6] |= u64::from(b) << (j & 63);
+                }
+                assert_eq!(words, direct, "at {at}, {len} bits");
+            }
+        }
+    }
+
     /// A mask of random blobs: each pixel foreground with probability `p`, then smoothed
     /// by a majority vote `rounds` times, so that shapes, holes, islands in holes and
     /// diagonal contacts all occur.

@@ -599,7 +599,7 @@ pub(crate) fn check_again(
         (u8::from(f64::from(v) >= threshold) * FOREGROUND) | (u8::from(decided) * DECIDED)
     });
     // The far pixels of one row's spans, and its near disagreeing ones, given its
-    // crossings (sorted here) and a buffer for its coverage.
+    // crossings (sorted here) and a buffer for its pixels' classes.
     let far_in_row =
         |row: usize, xs: &mut [f64], class: &mut [u8], out: &mut (Vec<u32>, Vec<u32>)| {
             let spans = look.spans(row);

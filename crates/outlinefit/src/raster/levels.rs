@@ -94,12 +94,9 @@ impl Levels {
             Levels::Byte(_, t) => {
                 let table: Vec<u8> = t.iter().map(|&v| class(v)).collect();
                 let bands = byte_bands(&table);
-                Classes { table, bands }
+                Classes::new(table, bands)
             }
-            Levels::Word(_, t) => Classes {
-                table: t.iter().map(|&v| class(v)).collect(),
-                bands: None,
-            },
+            Levels::Word(_, t) => Classes::new(t.iter().map(|&v| class(v)).collect(), None),
         }
     }
 
@@ -126,15 +123,12 @@ impl Levels {
             c
         }
         match (self, &classes.bands) {
-            (Levels::Byte(v, _), Some(bands)) => {
-                let used = classes.table.iter().fold(0, |a, &c| a | c);
-                match 8 - used.leading_zeros() {
-                    0 | 1 => copy(v, start, out, |l| banded::<1>(bands, l)),
-                    2 => copy(v, start, out, |l| banded::<2>(bands, l)),
-                    3 => copy(v, start, out, |l| banded::<3>(bands, l)),
-                    _ => copy(v, start, out, |l| banded::<8>(bands, l)),
-                }
-            }
+            (Levels::Byte(v, _), Some(bands)) => match classes.bits {
+                0 | 1 => copy(v, start, out, |l| banded::<1>(bands, l)),
+                2 => copy(v, start, out, |l| banded::<2>(bands, l)),
+                3 => copy(v, start, out, |l| banded::<3>(bands, l)),
+                _ => copy(v, start, out, |l| banded::<8>(bands, l)),
+            },
             (Levels::Byte(v, _), None) => {
                 let table: &[u8; 256] = classes.table[..].try_into().expect("8-bit levels");
                 copy(v, start, out, |l| table[usize::from(l)]);
@@ -197,6 +191,19 @@ pub(crate) struct Classes {
     /// minus one and whether the bit is set outside it. Reading classes is then
     /// comparisons, without a table lookup per pixel.
     bands: Option<[(u8, u8, bool); 8]>,
+    /// Bits that any class uses: the ones below the highest bit set in some class.
+    bits: u32,
+}
+
+impl Classes {
+    fn new(table: Vec<u8>, bands: Option<[(u8, u8, bool); 8]>) -> Classes {
+        let used = table.iter().fold(0u8, |a, &c| a | c);
+        Classes {
+            table,
+            bands,
+            bits: 8 - used.leading_zeros(),
+        }
+    }
 }
 
 /// The bands of [`Classes::bands`] for a 256-entry table, when every bit has one.
@@ -215,7 +222,7 @@ fn byte_bands(table: &[u8]) -> Option<[(u8, u8, bool); 8]> {
                 .then(|| (first as u8, (last - first) as u8))
         };
         *band = if !set.contains(&true) {
-            // Never set: inside an empty band… written as "set outside the full range".
+            // Never set: set only outside the band of all levels.
             (0, 255, true)
         } else if let Some((lo, span)) = band_of(true) {
             (lo, span, false)
