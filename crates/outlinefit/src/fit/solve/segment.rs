@@ -22,6 +22,7 @@ use crate::linalg::cramer2;
 use crate::param::centripetal_parameters;
 use crate::param::parameters_into;
 use crate::param::Parameterization;
+use std::borrow::Cow;
 
 /// Fits one segment: centripetal parameters, weight search with least-squares control
 /// points, parameter correction, then a Levenberg–Marquardt polish of the orthogonal
@@ -77,20 +78,21 @@ pub fn fit_segment_from(
     };
     let scale = run_scale(points);
     let mut evaluations = 0;
-    let mut runs: Vec<(Vec<f64>, [f64; 2])> = Vec::new();
-    let inits: Vec<Vec<f64>> = match warm {
-        Some(w) => vec![w.to_vec()],
+    // Each run is an initial parameterisation (an index into `inits`) and start weights.
+    let mut runs: Vec<(usize, [f64; 2])> = Vec::new();
+    let inits: Vec<Cow<[f64]>> = match warm {
+        Some(w) => vec![Cow::Borrowed(w)],
         None => settings
             .initial
             .iter()
             .map(|&rule| {
                 // The centripetal parameters are already there.
                 if rule == Parameterization::Centripetal {
-                    return params.clone();
+                    return Cow::Owned(params.clone());
                 }
                 let mut p = Vec::with_capacity(points.len());
                 parameters_into(points, rule, &mut p);
-                p
+                Cow::Owned(p)
             })
             .collect(),
     };
@@ -105,23 +107,23 @@ pub fn fit_segment_from(
             LinearModel::with_scale(subset, &strided(params, stride), start, end, scale)
         })
     };
-    for initial in inits {
+    for (k, initial) in inits.iter().enumerate() {
         if settings.fixed_weights() {
-            runs.push((initial, [settings.weight_range.0; 2]));
+            runs.push((k, [settings.weight_range.0; 2]));
             continue;
         }
-        let model = search_model(&initial)
-            .unwrap_or_else(|| LinearModel::with_scale(points, &initial, start, end, scale));
+        let model = search_model(initial)
+            .unwrap_or_else(|| LinearModel::with_scale(points, initial, start, end, scale));
         let (starts, ev) = grid_starts(&model, settings.weight_range, settings.starts.max(1));
         evaluations += ev;
-        runs.extend(starts.into_iter().map(|w| (initial.clone(), w)));
+        runs.extend(starts.into_iter().map(|w| (k, w)));
     }
     let mut best: Option<(RationalCubic, Vec<f64>, f64)> = None;
     // With one run there is nothing to choose between: its objective (one more projection
     // of every point) is not needed.
     let single = runs.len() == 1;
-    for (initial_params, w0) in runs {
-        params.copy_from_slice(&initial_params);
+    for (k, w0) in runs {
+        params.copy_from_slice(&inits[k]);
         let mut weights = w0;
         let mut curve;
         let mut round = 0;
