@@ -11,7 +11,7 @@
 //! no memory beyond the mask and the loops themselves.
 
 use crate::geom::Point;
-use crate::raster::Bitmap;
+use crate::raster::{Bitmap, Classes};
 
 /// One pixel edge between a foreground and a background pixel: the vertex it leaves (in
 /// padded coordinates) and its direction, with the foreground on its right. Twelve bytes,
@@ -266,11 +266,16 @@ const MASK_CHUNK_WORDS: usize = 1 << 14;
 /// padded layout (`pw` bits per row, one row and one column of padding before the
 /// image's `h` rows). Reads every image row the words touch; at a chunk's seam a row is
 /// read by both chunks, but each bit is set by the chunk that owns its word.
-fn fill_words(bitmap: &Bitmap, pw: usize, h: usize, first: usize, words: &mut [u64]) {
+fn fill_words(
+    bitmap: &Bitmap,
+    classes: &Classes,
+    pw: usize,
+    h: usize,
+    first: usize,
+    words: &mut [u64],
+) {
     let w = bitmap.width() as usize;
     let (lo, hi) = (64 * first, 64 * (first + words.len()));
-    let t = bitmap.threshold();
-    let classes = bitmap.level_classes(|v| u8::from(f64::from(v) >= t));
     let mut row = vec![0u8; w];
     // Padded row r + 1 holds image row r after one padding pixel.
     let rows = (lo / pw).max(1)..(hi.div_ceil(pw)).min(h + 1);
@@ -280,9 +285,15 @@ fn fill_words(bitmap: &Bitmap, pw: usize, h: usize, first: usize, words: &mut [u
         if from >= to {
             continue;
         }
-        bitmap.read_row_classes(padded - 1, 0, &classes, &mut row);
+        bitmap.read_row_classes(padded - 1, 0, classes, &mut row);
         set_bits(words, from - lo, &row[from - start..to - start]);
     }
+}
+
+/// The classes [`fill_words`] reads: 1 for a foreground level, else 0.
+fn foreground_classes(bitmap: &Bitmap) -> Classes {
+    let t = bitmap.threshold();
+    bitmap.level_classes(|v| u8::from(f64::from(v) >= t))
 }
 
 /// Sets bit `at + k` of `words` for every `bits[k]` that is 1 (each is 0 or 1), a word
@@ -341,6 +352,7 @@ impl PaddedMask {
         i32::try_from(h + 3).ok()?;
         let len = pw * (h + 2);
         let mut foreground = Bits::new(len);
+        let classes = foreground_classes(bitmap);
         // A large image is thresholded in chunks of words on the thread pool: each chunk
         // owns its words, so the bits are the same in any order.
         if w * h >= 2 * 64 * MASK_CHUNK_WORDS {
@@ -349,9 +361,11 @@ impl PaddedMask {
                 .0
                 .par_chunks_mut(MASK_CHUNK_WORDS)
                 .enumerate()
-                .for_each(|(k, words)| fill_words(bitmap, pw, h, k * MASK_CHUNK_WORDS, words));
+                .for_each(|(k, words)| {
+                    fill_words(bitmap, &classes, pw, h, k * MASK_CHUNK_WORDS, words)
+                });
         } else {
-            fill_words(bitmap, pw, h, 0, &mut foreground.0);
+            fill_words(bitmap, &classes, pw, h, 0, &mut foreground.0);
         }
         resolve_diagonals(&mut foreground, pw, h + 2, bitmap);
         Some(PaddedMask {
@@ -589,7 +603,8 @@ mod tests {
         let pw = w + 2;
         let len = (pw * (h + 2)).div_ceil(64);
         let mut whole = vec![0u64; len];
-        fill_words(&bitmap, pw, h, 0, &mut whole);
+        let classes = foreground_classes(&bitmap);
+        fill_words(&bitmap, &classes, pw, h, 0, &mut whole);
         let mut chunked = vec![0u64; len];
         // Uneven chunks, one of a single word, seams anywhere in a row.
         let mut first = 0;
@@ -601,7 +616,7 @@ mod tests {
                 break;
             }
             let end = (first + size).min(len);
-            fill_words(&bitmap, pw, h, first, &mut chunked[first..end]);
+            fill_words(&bitmap, &classes, pw, h, first, &mut chunked[first..end]);
             first = end;
         }
         assert_eq!(chunked, whole);

@@ -489,37 +489,34 @@ impl Bitmap {
         // A large image is counted in bands of rows on the thread pool; the counts are
         // whole numbers, so their sum is the same on any number of threads.
         let band = (BILEVEL_BAND_PIXELS / w).max(1);
+        let classes = self.crossing_classes();
         let (edge, grey_edge) = if rows * w >= 2 * BILEVEL_BAND_PIXELS {
             use rayon::prelude::*;
             (0..rows.div_ceil(band))
                 .into_par_iter()
-                .map(|k| self.crossings(k * band..((k + 1) * band).min(rows)))
+                .map(|k| self.crossings(k * band..((k + 1) * band).min(rows), &classes))
                 .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
         } else {
-            self.crossings(0..rows)
+            self.crossings(0..rows, &classes)
         };
         (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
     }
 
     /// The threshold crossings between neighbouring pixels within the rows of `band` and
     /// between each of them and the next row, and how many of their pixels are grey (see
-    /// [`crossing_counts`]).
-    fn crossings(&self, band: std::ops::Range<usize>) -> (u64, u64) {
+    /// [`crossing_counts`]), from the classes of [`Bitmap::crossing_classes`].
+    fn crossings(&self, band: std::ops::Range<usize>, classes: &Classes) -> (u64, u64) {
         let w = self.width as usize;
         let rows = self.coverage.len() / w;
-        let level = self.foreground_level();
-        let classes = self.level_classes(|v| {
-            (u8::from(v >= level) * FOREGROUND) | (u8::from(v > GREY_LO && v < GREY_HI) * GREY)
-        });
         let (mut edge, mut grey_edge) = (0u64, 0u64);
         let (mut row, mut next) = (vec![0; w], vec![0; w]);
-        self.read_row_classes(band.start, 0, &classes, &mut row);
+        self.read_row_classes(band.start, 0, classes, &mut row);
         for r in band {
             let (e, g) = crossing_counts(&row[..w - 1], &row[1..]);
             edge += e;
             grey_edge += g;
             if r + 1 < rows {
-                self.read_row_classes(r + 1, 0, &classes, &mut next);
+                self.read_row_classes(r + 1, 0, classes, &mut next);
                 let (e, g) = crossing_counts(&row, &next);
                 edge += e;
                 grey_edge += g;
@@ -527,6 +524,14 @@ impl Bitmap {
             }
         }
         (edge, grey_edge)
+    }
+
+    /// The classes the bilevel count reads: [`FOREGROUND`] and [`GREY`] bits.
+    fn crossing_classes(&self) -> Classes {
+        let level = self.foreground_level();
+        self.level_classes(|v| {
+            (u8::from(v >= level) * FOREGROUND) | (u8::from(v > GREY_LO && v < GREY_HI) * GREY)
+        })
     }
 
     fn measure_border(&self) -> f64 {
@@ -1255,9 +1260,10 @@ mod tests {
             })
             .collect();
         let b = Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap();
-        let whole = b.crossings(0..h);
+        let classes = b.crossing_classes();
+        let whole = b.crossings(0..h, &classes);
         let banded = (0..h.div_ceil(7))
-            .map(|k| b.crossings(k * 7..((k + 1) * 7).min(h)))
+            .map(|k| b.crossings(k * 7..((k + 1) * 7).min(h), &classes))
             .fold((0, 0), |a, c| (a.0 + c.0, a.1 + c.1));
         assert_eq!(whole, banded);
         assert!(whole.0 > 0 && whole.1 > 0, "{whole:?}");
