@@ -107,10 +107,17 @@ pub(super) fn search_weights(
     let mut best = model.solve(to_w(x)).1;
     let mut evals = 1;
     let mut step = step0;
+    // The neighbour that the last move came from, as (dimension, direction): its error is
+    // known to be higher than the current one, so it is not evaluated again (a tenth of
+    // the search's evaluations on a page of text).
+    let mut came_from: Option<(usize, f64)> = None;
     while step >= min_step && evals < 400 {
         let mut moved = false;
         for dim in 0..2 {
             for dir in [1.0, -1.0] {
+                if came_from == Some((dim, dir)) {
+                    continue;
+                }
                 let mut y = x;
                 y[dim] = (y[dim] + dir * step).clamp(lo, hi);
                 if y[dim] == x[dim] {
@@ -122,12 +129,14 @@ pub(super) fn search_weights(
                     best = e;
                     x = y;
                     moved = true;
+                    came_from = Some((dim, -dir));
                     break;
                 }
             }
         }
         if !moved {
             step *= 0.5;
+            came_from = None;
         }
     }
     (to_w(x), best, evals)
