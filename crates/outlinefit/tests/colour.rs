@@ -108,7 +108,9 @@ fn two_colours_on_a_circle_share_one_boundary_within_a_quarter_pixel() {
     let img = draw(80, 80, &[BLUE, RED], |x, y| {
         usize::from(Point::new(x, y).distance(c) < r)
     });
-    let t = trace_colour(&img, &config(), &options(Layout::Stacked)).unwrap();
+    // Held to 0.25 px of the truth, so fitted at 0.2 (see `config`): at 0.3 a merge may
+    // use the whole tolerance (0.297 px from edge points 0.02 px from the circle).
+    let t = trace_colour(&img, &tight(), &options(Layout::Stacked)).unwrap();
     // The palette is exact: transparency and the two colours, the larger first.
     assert_eq!(t.palette.len(), 3);
     assert_eq!(t.palette[1].rgb, [30, 60, 200]);

@@ -289,6 +289,44 @@ fn stress_shapes_keep_every_part_bilevel() {
     }
 }
 
+/// A comb of teeth 1.5 px wide with 2 px gaps (the benchmark's `comb15-20`),
+/// anti-aliased: every tooth keeps its width, within half a pixel of the exact outline.
+/// A tooth's end spans two pixels, a run of a few points between corners; where such
+/// runs fail the check, the repair's pixel trace widens each tooth to the pixel grid
+/// (1 px off).
+#[test]
+fn a_comb_of_narrow_teeth_keeps_their_width() {
+    // Teeth [x − 1.5, x] × [70, 150] every 3.5 px from x = 226 down, on a bar from
+    // x = 30 to 226 and y = 150 to 180.
+    let mut teeth = Vec::new();
+    let mut x = 226.0;
+    while x - 1.5 >= 30.0 {
+        teeth.push((x - 1.5, x));
+        x -= 3.5;
+    }
+    teeth.reverse();
+    let mut comb = vec![(30.0, 180.0), (30.0, 150.0)];
+    for (l, r) in teeth {
+        comb.extend([(l, 150.0), (l, 70.0), (r, 70.0), (r, 150.0)]);
+    }
+    comb.extend([(226.0, 150.0), (226.0, 180.0)]);
+    let shape = Shape {
+        name: "narrow comb",
+        size: 256,
+        polygons: vec![comb],
+    };
+    let bitmap = Bitmap::from_coverage(256, 256, coverage(&shape, 1, 16), None).unwrap();
+    let config = Config {
+        timings: false,
+        ..Config::default()
+    };
+    let result = trace_bitmap(&bitmap, &config).unwrap();
+    assert!(result.fidelity.held, "{:?}", result.fidelity);
+    let svg = to_svg(&result, &ExportOptions::for_tolerance(config.tolerance));
+    let h = hausdorff_to_truth(&shape, &svg);
+    assert!(h <= 0.5, "Hausdorff {h:.2} px to the exact outline");
+}
+
 /// Random unions of polygons, disks and thin bars, rotated, from a pixel up, with and
 /// without noise.
 fn random_shape(rng: &mut ChaCha8Rng) -> Shape {

@@ -84,8 +84,9 @@ fn a_circle_has_no_corner_and_few_pieces() {
     }
 }
 
-/// The superellipse |x/80|⁴ + |y/50|⁴ = 1: no corner, and at most two pieces per
-/// quadrant.
+/// The superellipse |x/80|⁴ + |y/50|⁴ = 1: no corner, and a few pieces per quadrant (9 in
+/// all since a long piece is split into polynomial cubics before any weight search; 8
+/// before).
 #[test]
 fn a_superellipse_has_no_corner_and_a_few_pieces_per_quadrant() {
     let result = trace(200, 140, |x, y| {
@@ -99,7 +100,7 @@ fn a_superellipse_has_no_corner_and_a_few_pieces_per_quadrant() {
         corners(&result)
     );
     let c = &result.contours[0];
-    assert!(c.segments.len() <= 8, "{} pieces", c.segments.len());
+    assert!(c.segments.len() <= 10, "{} pieces", c.segments.len());
     for j in &c.joints {
         assert!(j.angle < 1e-6, "joint angle {}", j.angle);
     }

@@ -176,7 +176,14 @@ impl<'a> Fits<'a> {
         if let Some(p) = self.pieces.borrow_mut().get_mut(&key) {
             return summary(p, self.points, a.index, b.index, self.lsq.export_bound);
         }
-        let mut piece = fit_piece(self.points, a, b, self.lsq, &mut self.buf.borrow_mut());
+        let mut piece = fit_piece(
+            self.points,
+            a,
+            b,
+            self.lsq,
+            true,
+            &mut self.buf.borrow_mut(),
+        );
         let s = summary(
             &mut piece,
             self.points,
@@ -199,7 +206,14 @@ impl<'a> Fits<'a> {
         );
         match self.pieces.borrow().get(&key) {
             Some(p) => p.clone(),
-            None => fit_piece(self.points, a, b, self.lsq, &mut self.buf.borrow_mut()),
+            None => fit_piece(
+                self.points,
+                a,
+                b,
+                self.lsq,
+                true,
+                &mut self.buf.borrow_mut(),
+            ),
         }
     }
 }
