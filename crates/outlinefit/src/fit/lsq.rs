@@ -90,12 +90,13 @@ const POLYNOMIAL_ROUNDS: usize = 4;
 /// that its polynomial cubic misses is split at once: the weight search costs about four
 /// polynomial fits, ends within tolerance on a third of the pieces, and a rational segment
 /// is mostly drawn with two SVG cubics anyway, as many as the two halves of a split. On
-/// the scan of `make_scan.py` (with [`POLYNOMIAL_ROUNDS`]) 0.91x the time and 3.6 % fewer
-/// SVG cubics; with weights searched only while merging (no limit), a comb's teeth of
-/// 1.5 px lost their tips: a U-turn over a few points is a rational cubic, and its
-/// halves are too short to split. Twice the shortest run that is split (7 points), so a
-/// piece whose halves cannot be split again always has the weight search.
-pub(crate) const SPLIT_WEIGHTS_POINTS: usize = 14;
+/// the scan of `make_scan.py` (with [`POLYNOMIAL_ROUNDS`]) about 0.92x the time and 3.6 %
+/// fewer SVG cubics. With weights searched only while merging (no limit), the square
+/// ends of a comb's 1.5 px teeth, runs of a few points whose halves are too short to
+/// split, failed the check, and the repair's pixel trace widened every tooth by up to a
+/// pixel. Twice the shortest run that is split ([`MIN_SPLIT_POINTS`]), so a piece whose
+/// halves cannot be split again always has the weight search.
+const SPLIT_WEIGHTS_POINTS: usize = 14;
 
 /// Shortest run (data points, ends included) that is split when it misses the tolerance.
 const MIN_SPLIT_POINTS: usize = 7;
