@@ -408,7 +408,9 @@ fn fit_chain(
     };
 
     // Runs (between two joint indices) known not to fit within tolerance: a split
-    // records the run it split, so merging cannot try it again.
+    // records the run it split, so merging cannot try it again. A long run was tried as
+    // a polynomial cubic only (see `SPLIT_WEIGHTS_POINTS`); merging does not retry it
+    // with weights either (measured: 1.6 % fewer SVG cubics for 1.2x the scan's time).
     let mut failed: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
 
     // Initial fits and splitting.
