@@ -135,6 +135,18 @@ impl PowerCubic {
 
     /// See [`RationalCubic::project_quick`](crate::curve::RationalCubic::project_quick).
     pub fn project_quick(&self, q: Point, u0: f64, iterations: usize) -> f64 {
+        self.project_quick_distance(q, u0, iterations).0
+    }
+
+    /// [`PowerCubic::project_quick`], also returning the squared distance from `q` to the
+    /// curve at the parameter found.
+    #[inline]
+    pub(crate) fn project_quick_distance(
+        &self,
+        q: Point,
+        u0: f64,
+        iterations: usize,
+    ) -> (f64, f64) {
         let mut u = u0.clamp(0.0, 1.0);
         let mut jet = self.jet(u);
         let mut d2 = (jet.point - q).length_squared();
@@ -154,7 +166,7 @@ impl PowerCubic {
             jet = jn;
             d2 = dn;
         }
-        u
+        (u, d2)
     }
 
     /// See [`RationalCubic::refine_projection`](crate::curve::RationalCubic::refine_projection); Newton stops at steps shorter than

@@ -50,9 +50,11 @@ pub struct FitSettings {
     /// so a few dozen points place its minimum close to where all of them do, at a
     /// fraction of the cost on long runs.
     pub search_points: Option<usize>,
-    /// The parameter correction stops early once a point lies farther than this from the
-    /// curve at its foot (px): a fit that far off will be split whatever the remaining
-    /// rounds do, so they are not spent on it. `None` always runs every round.
+    /// The parameter correction stops early once, after its round k (from 1), a point
+    /// lies farther than this divided by k from the curve at its foot (px): a fit that far
+    /// off will be split whatever the remaining rounds do, so they are not spent on it.
+    /// The bound tightens because each round brings the curve closer to where it ends.
+    /// `None` always runs every round.
     pub give_up: Option<f64>,
 }
 

@@ -202,3 +202,58 @@ fn a_fit_that_gives_up_stops_after_its_first_round_of_correction() {
     assert_eq!(never.curve, full.curve);
     assert_eq!(never.params, full.params);
 }
+
+/// The largest distance between a point and the curve at its parameter.
+fn farthest_at_params(sol: &SegmentSolution, pts: &[Point]) -> f64 {
+    pts.iter()
+        .zip(&sol.params)
+        .map(|(q, &u)| sol.curve.eval(u).distance(*q))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn the_give_up_bound_tightens_with_each_round() {
+    // After round k the fit stops when a point is farther than give_up / k: a bound that
+    // the first round passes and the second misses (at half the bound) stops the fit
+    // after its second round, with that round's curve and the parameters at its feet.
+    let data = wave();
+    let (start, end) = (EndCondition::Free, EndCondition::Free);
+    let rounds = |reparam_rounds| FitSettings {
+        reparam_rounds,
+        polish_iterations: 0,
+        ..FitSettings::polynomial()
+    };
+    // A fit with r rounds leaves its parameters where round r + 1's check measures them.
+    let after_first = farthest_at_params(&fit_segment(&data, start, end, &rounds(0)), &data);
+    let one_round = fit_segment(&data, start, end, &rounds(1));
+    let after_second = farthest_at_params(&one_round, &data);
+    assert!(
+        after_first < 2.0 * after_second,
+        "{after_first} {after_second}"
+    );
+    let limit = 0.5 * (after_first + 2.0 * after_second);
+    let stopped = fit_segment(
+        &data,
+        start,
+        end,
+        &FitSettings {
+            give_up: Some(limit),
+            ..rounds(4)
+        },
+    );
+    assert_eq!(stopped.curve, one_round.curve);
+    assert_eq!(stopped.params, one_round.params);
+    let full = fit_segment(&data, start, end, &rounds(4));
+    assert_ne!(stopped.curve, full.curve);
+    // A bound above twice the second round's distance lets the second round pass.
+    let passed = fit_segment(
+        &data,
+        start,
+        end,
+        &FitSettings {
+            give_up: Some(2.0 * after_second * 1.001),
+            ..rounds(4)
+        },
+    );
+    assert_ne!(passed.curve, one_round.curve);
+}
