@@ -712,3 +712,44 @@ fn batch_writes_the_format_asked_for() {
         assert!(summary.contains(",skipped,"), "{format}: {summary}");
     }
 }
+
+/// `outlinefit trace …` and the shorthand `outlinefit FILE …` are parsed by a tree with
+/// `trace` alone (it is what a script calls once per file); what the user sees must be
+/// what the whole tree shows: the help (`help trace` goes through the whole tree), the
+/// usage errors and their exit status, the same for both spellings.
+#[test]
+fn trace_alone_parses_and_explains_as_the_whole_command_line() {
+    let run = |args: &[&str]| {
+        let out = bin().args(args).output().unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let alone = run(&["trace", "--help"]);
+    let whole = run(&["help", "trace"]);
+    assert_eq!(alone.0, Some(0));
+    assert!(alone.1.contains("--tolerance") && alone.1.contains("Exit status:"));
+    assert_eq!(alone, whole);
+    for bad in [
+        &["missing.png", "--no-such-option"][..],
+        &["missing.png", "--tolerance"],
+        &["missing.png", "--seed", "x"],
+    ] {
+        let alone = run(&[&["trace"][..], bad].concat());
+        let whole = run(bad);
+        assert_eq!(alone.0, Some(2), "{bad:?}: {}", alone.2);
+        assert!(alone.2.starts_with("error: "), "{}", alone.2);
+        assert_eq!(alone, whole, "{bad:?}");
+    }
+    let unknown = run(&["trace", "missing.png", "--no-such-option"]);
+    assert!(
+        unknown.2.contains("Usage: outlinefit trace"),
+        "{}",
+        unknown.2
+    );
+    let short_help = run(&["trace", "-h"]);
+    assert_eq!(short_help.0, Some(0));
+    assert!(short_help.1.len() < alone.1.len());
+}

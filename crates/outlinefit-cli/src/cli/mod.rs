@@ -35,6 +35,34 @@ struct Cli {
     command: Command,
 }
 
+/// What `trace` does, in the command list and at the top of its `--help`.
+const TRACE_ABOUT: &str = "Trace one image into an outline: SVG, PDF, EPS, DXF or GeoJSON, \
+                           with optional JSON/CSV reports and an overlay";
+
+/// The command line of `outlinefit trace …` alone: the same program, with `trace` its only
+/// command. A script that traces a folder one process per file pays for building the
+/// parser each time; this tree has only `trace`'s arguments, not every command's (see
+/// [`run`]). Its `--help`, usage and errors are those of the whole tree (tested).
+#[derive(Parser, Debug)]
+#[command(
+    name = "outlinefit",
+    version,
+    about,
+    long_about = None,
+    after_help = EXIT_STATUS,
+)]
+struct TraceCli {
+    #[command(subcommand)]
+    command: TraceOnly,
+}
+
+/// [`TraceCli`]'s one command.
+#[derive(Subcommand, Debug)]
+enum TraceOnly {
+    #[command(about = TRACE_ABOUT, after_help = EXIT_STATUS)]
+    Trace(trace::TraceArgs),
+}
+
 /// The exit statuses, shown under every command's `--help` (the README has the same table).
 const EXIT_STATUS: &str = "\
 Exit status:
@@ -47,9 +75,7 @@ Exit status:
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Trace one image into an outline: SVG, PDF, EPS, DXF or GeoJSON, with optional
-    /// JSON/CSV reports and an overlay.
-    #[command(after_help = EXIT_STATUS)]
+    #[command(about = TRACE_ABOUT, after_help = EXIT_STATUS)]
     Trace(trace::TraceArgs),
     /// Trace every image of a folder in parallel into OUTDIR/<name>.svg (or another
     /// format) and <name>.json, with OUTDIR/summary.csv.
@@ -87,12 +113,19 @@ enum Command {
 
 /// Parses the command line and runs it; returns the exit code.
 pub(crate) fn run() -> anyhow::Result<i32> {
-    // One command tree serves the shorthand's check and the parse: building it is about
-    // 0.4 ms, a tenth of tracing a small glyph. `Cli::parse_from` is the same two steps on
-    // a tree of its own.
-    let command = Cli::command();
-    let args = with_default_command(&command, std::env::args_os().collect());
-    let mut matches = command.get_matches_from(args);
+    let args = with_default_command(std::env::args_os().collect());
+    // `outlinefit trace …` (or the shorthand) builds only `trace`'s part of the parser:
+    // the whole tree, with every command's arguments and help, is about a tenth of the
+    // process's time on a 256 px glyph.
+    if args.get(1).is_some_and(|a| a == "trace") {
+        let mut matches = TraceCli::command().get_matches_from(args);
+        let cli = TraceCli::from_arg_matches_mut(&mut matches)
+            .unwrap_or_else(|e| e.format(&mut TraceCli::command()).exit());
+        let TraceOnly::Trace(args) = cli.command;
+        return trace::run(&args);
+    }
+    // `Cli::parse_from` is the same two steps, on a tree of its own for the error.
+    let mut matches = Cli::command().get_matches_from(args);
     let cli = Cli::from_arg_matches_mut(&mut matches)
         .unwrap_or_else(|e| e.format(&mut Cli::command()).exit());
     match cli.command {
@@ -107,21 +140,22 @@ pub(crate) fn run() -> anyhow::Result<i32> {
     }
 }
 
+/// The names of the commands (and `help`), known without building the parser (a test
+/// checks them against it).
+const COMMANDS: [&str; 9] = [
+    "trace", "batch", "summary", "compare", "bspline", "merge", "reduce", "surface", "help",
+];
+
 /// `outlinefit FILE …` means `outlinefit trace FILE …`, as `potrace FILE` traces a file:
 /// when the first argument is no command and is a path (an existing file or folder, a
 /// name with a folder or an extension, or `-` for standard input), `trace` is put before
 /// it. Anything else is left to the parser, so a misspelt command still gets its
 /// "unrecognized subcommand" and suggestion.
-fn with_default_command(
-    command: &clap::Command,
-    mut args: Vec<std::ffi::OsString>,
-) -> Vec<std::ffi::OsString> {
+fn with_default_command(mut args: Vec<std::ffi::OsString>) -> Vec<std::ffi::OsString> {
     let Some(first) = args.get(1) else {
         return args;
     };
-    let is_command = first
-        .to_str()
-        .is_some_and(|s| command.find_subcommand(s).is_some() || s == "help");
+    let is_command = first.to_str().is_some_and(|s| COMMANDS.contains(&s));
     // A name with a folder or an extension is a path even when it does not exist, so
     // that the error names the missing file rather than an unknown command.
     let path = std::path::Path::new(first);
@@ -133,4 +167,24 @@ fn with_default_command(
         args.insert(1, "trace".into());
     }
     args
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_command_names_are_the_parsers() {
+        let command = Cli::command();
+        let mut parsed: Vec<String> = command
+            .get_subcommands()
+            .flat_map(|c| std::iter::once(c.get_name()).chain(c.get_all_aliases()))
+            .map(str::to_owned)
+            .chain(["help".to_owned()])
+            .collect();
+        let mut listed: Vec<String> = COMMANDS.iter().map(|s| (*s).to_owned()).collect();
+        parsed.sort();
+        listed.sort();
+        assert_eq!(parsed, listed);
+    }
 }
