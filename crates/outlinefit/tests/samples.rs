@@ -116,8 +116,9 @@ fn hs_weights_search_reaches_the_least_squares_optimum_on_every_segment() {
     // only has to find two weights: it must come within 0.1 % of the separable optimum
     // (same end conditions, same centripetal parameters) on every segment. A straight run
     // has its optimum near 0 at weights (1, 1), in a valley that narrows with its length
-    // (the e's crossbar, one segment of 181 points: HS 2.5e-5 px² against 8.8e-7); there
-    // an RMS of 1e-3 px is allowed instead: 1e-6 px² per point, at least 1e-5 px².
+    // (the e's crossbar, one segment of 181 points: HS 2.5e-5 px² against 8.8e-7 once
+    // one segment fewer before it changed its index and so its seed); there an RMS of
+    // 1e-3 px is allowed instead: 1e-6 px² per point, at least 1e-5 px².
     let config = Config {
         timings: false,
         ..Config::default()
