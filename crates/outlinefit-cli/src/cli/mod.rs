@@ -42,15 +42,10 @@ const TRACE_ABOUT: &str = "Trace one image into an outline: SVG, PDF, EPS, DXF o
 /// The command line of `outlinefit trace …` alone: the same program, with `trace` its only
 /// command. A script that traces a folder one process per file pays for building the
 /// parser each time; this tree has only `trace`'s arguments, not every command's (see
-/// [`run`]). Its `--help`, usage and errors are those of the whole tree (tested).
+/// [`run`]). Its `--help`, usage and errors are those of the whole tree (tested); only
+/// the name of the program shows in them, so that is all it takes from [`Cli`].
 #[derive(Parser, Debug)]
-#[command(
-    name = "outlinefit",
-    version,
-    about,
-    long_about = None,
-    after_help = EXIT_STATUS,
-)]
+#[command(name = "outlinefit")]
 struct TraceCli {
     #[command(subcommand)]
     command: TraceOnly,
