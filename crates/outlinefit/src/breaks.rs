@@ -708,6 +708,7 @@ mod tests {
             points,
             is_hole: false,
             parent: None,
+            edge_spread: None,
         }
     }
 

@@ -111,6 +111,9 @@ pub(crate) fn check_and_repair(
         progress,
     } = input;
     let mut level = vec![Repair::None; contours.len()];
+    // Each contour's tolerance before repair (widened on a blurred edge), from which its
+    // tighter fits are derived.
+    let mut base: Vec<f64> = contours.iter().map(|c| c.tolerance).collect();
     let mut corners_tried = vec![false; contours.len()];
     let mut border_of = extraction.border_of.clone();
     let mut repaired: HashSet<usize> = HashSet::new();
@@ -174,7 +177,7 @@ pub(crate) fn check_and_repair(
             {
                 Repair::Corners
             } else {
-                match level[i].next(tolerance, bitmap.is_bilevel()) {
+                match level[i].next(base[i], bitmap.is_bilevel()) {
                     Some(_) if spent => Repair::PixelRaw,
                     Some(next) => next,
                     None => continue,
@@ -236,10 +239,7 @@ pub(crate) fn check_and_repair(
             };
             let options = |tolerance: f64| lsq_options(tolerance, limits.bound, timings);
             // A contour's own tolerance: the repair's tighter one once it has reached it.
-            let own = match level[i] {
-                Repair::Tighter(k) => tighter_tolerance(tolerance, k).unwrap_or(tolerance),
-                _ => tolerance,
-            };
+            let own = contours[i].tolerance;
             match (job.step, &job.pixels) {
                 (Repair::Corners, _) => {
                     // Only the runs that the new corners cut are fitted again.
@@ -255,7 +255,7 @@ pub(crate) fn check_and_repair(
                 }
                 (Repair::Tighter(k), _) => {
                     // Only the runs where something went wrong are fitted tighter.
-                    let tighter = tighter_tolerance(tolerance, k).unwrap_or(tolerance);
+                    let tighter = tighter_tolerance(base[i], k).unwrap_or(base[i]);
                     let seg = corners_kept(&contours[i]);
                     let (refit, work) = refit_runs(&contours[i], &seg, &dirty, &options(tighter));
                     (refit, work as f64)
@@ -338,6 +338,7 @@ pub(crate) fn check_and_repair(
                 merged.push(Vec::new());
                 changed.insert(contours.len() - 1);
                 border_of.push(b);
+                base.push(tolerance);
                 level.push(Repair::PixelSmoothed);
                 corners_tried.push(false);
                 restored += 1;
@@ -361,7 +362,7 @@ pub(crate) fn check_and_repair(
     Ok(Fidelity {
         held: findings.held(),
         max_deviation: findings.max_deviation,
-        deviation_limit: limits.deviation,
+        deviation_limit: limits.deviation + limits.widening,
         largest_region: findings.largest.0,
         region_limit: limits.region,
         region_box: findings.largest.1,
@@ -435,10 +436,15 @@ fn with_corners(contour: &FittedContour, bad: &[usize]) -> SegmentedContour {
 }
 
 /// The contour's own points with its corners (given and added by the repair), for a
-/// fit that places its smooth splits anew.
+/// fit that places its smooth splits anew. A contour with fewer than two corners (an
+/// "o") keeps all its joints: a closed chain needs two, and without them the fit would
+/// have nothing to draw.
 fn corners_kept(contour: &FittedContour) -> SegmentedContour {
     let mut seg = with_corners(contour, &[]);
-    seg.breaks.retain(|b| b.kind == JointKind::Corner);
+    let corners = seg.breaks.iter().filter(|b| b.kind == JointKind::Corner);
+    if corners.count() >= 2 {
+        seg.breaks.retain(|b| b.kind == JointKind::Corner);
+    }
     seg
 }
 
@@ -486,5 +492,40 @@ fn polygon_segmented(
         is_hole,
         parent,
         breaks,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contour::Contour;
+    use crate::geom::Point;
+
+    /// The tighter refit of a contour without corners (an "o") keeps its joints: with the
+    /// corners alone it had none, and the refit drew nothing (an upscaled "o" whose first
+    /// check failed at its widened tolerance came out empty).
+    #[test]
+    fn a_tighter_refit_of_a_contour_without_corners_draws_it() {
+        let points: Vec<Point> = (0..300)
+            .map(|i| {
+                let a = i as f64 / 300.0 * std::f64::consts::TAU;
+                Point::new(60.0 + 40.0 * a.cos(), 60.0 + 30.0 * a.sin())
+            })
+            .collect();
+        let contour = Contour {
+            points,
+            is_hole: false,
+            parent: None,
+            edge_spread: None,
+        };
+        let options = LsqOptions::for_tolerance(0.6, false);
+        let seg = find_breaks(&contour, &BreakOptions::for_image(50.0, 120, 120), None);
+        let fitted = fit_contour(&seg, &options);
+        assert!(fitted.joints.iter().all(|j| j.kind == JointKind::Smooth));
+        let kept = corners_kept(&fitted);
+        assert_eq!(kept.breaks.len(), fitted.joints.len());
+        let tighter = fit_contour(&kept, &LsqOptions::for_tolerance(0.3, false));
+        assert!(tighter.segments.len() >= fitted.segments.len());
+        assert!(tighter.max_distance() <= 0.3);
     }
 }

@@ -40,11 +40,16 @@ pub(crate) struct Summary {
     pub mean_distance: f64,
     /// Number of data points.
     pub points: usize,
+    /// Contours fitted to a tolerance wider than `--tolerance`, because their edge is
+    /// blurred (`Config::edge_tolerance`).
+    pub widened_contours: usize,
+    /// The widest tolerance (px) a contour was fitted to.
+    pub max_tolerance: f64,
 }
 
 impl Summary {
     /// Totals of a trace.
-    pub(crate) fn of(result: &TraceResult) -> Summary {
+    pub(crate) fn of(result: &TraceResult, tolerance: f64) -> Summary {
         let mut s = Summary {
             contours: result.contours.len(),
             segments: result.segment_count(),
@@ -57,11 +62,15 @@ impl Summary {
             max_distance: result.max_distance(),
             mean_distance: 0.0,
             points: 0,
+            widened_contours: 0,
+            max_tolerance: 0.0,
         };
         let mut weighted = 0.0;
         let mut counted = 0usize;
         for c in &result.contours {
             s.points += c.points.len();
+            s.widened_contours += usize::from(c.tolerance > tolerance);
+            s.max_tolerance = s.max_tolerance.max(c.tolerance);
             for j in &c.joints {
                 match j.kind {
                     JointKind::Corner => s.corner_joints += 1,
@@ -124,6 +133,8 @@ struct ContourRow<'a> {
     is_hole: bool,
     parent: Option<usize>,
     point_count: usize,
+    /// The tolerance (px) the contour was fitted to.
+    tolerance: f64,
     segments: Vec<SegmentRow<'a>>,
     joints: Vec<JointRow>,
     #[serde(skip_serializing_if = "<[MergedCurve]>::is_empty")]
@@ -162,6 +173,7 @@ fn contour_row<'a>(
         is_hole: c.is_hole,
         parent: c.parent,
         point_count: c.points.len(),
+        tolerance: c.tolerance,
         segments: c
             .segments
             .iter()
@@ -237,7 +249,7 @@ pub fn write_json(
             .map(|(path, r)| ImageRow {
                 path,
                 image: &r.image,
-                summary: Summary::of(r),
+                summary: Summary::of(r, config.tolerance),
                 fidelity: &r.fidelity,
                 seconds: r.seconds,
                 contours: ContourRows {

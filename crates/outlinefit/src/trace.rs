@@ -50,6 +50,12 @@ pub struct Config {
     /// Largest allowed distance (px) from a data point to its fitted curve, for `lsq`.
     /// Default: 0.3.
     pub tolerance: f64,
+    /// Widen the tolerance of a contour whose edge is blurred (a soft scan or photo, an
+    /// upscaled image) by the square root of the edge's spread over a sharp edge's, up to
+    /// 3× (`Contour::edge_scale`); false holds every contour to `tolerance`. Sharp
+    /// anti-aliased and bilevel edges are never widened. The report gives each contour's
+    /// tolerance. Default: true.
+    pub edge_tolerance: bool,
     /// How segments are fitted: [`Method::Lsq`] (separable least squares with
     /// error-driven splitting, the default) or a metaheuristic, which refits the `lsq`
     /// segmentation at fixed centripetal parameters. Reports name it `lsq` or the
@@ -109,6 +115,7 @@ impl Config {
         min_area: 2.0,
         corner_angle: 50.0,
         tolerance: 0.3,
+        edge_tolerance: true,
         optimizer: Method::Lsq,
         search: Search::Weights,
         budget: 5000,
@@ -390,11 +397,12 @@ pub fn trace_bitmap_with_progress(
     let placement_options =
         (config.breaks == BreakPlacement::Optimize).then(|| config.placement_options());
     let meta_options = config.meta_options();
-    let merge_options = config.merge.then_some(merge::outline::OutlineMergeOptions {
-        degree: config.merge_degree,
-        tolerance: config.tolerance,
-    });
-    let fit_one = |seg: SegmentedContour, i: usize| -> Result<FittedContour> {
+    let fit_one = |seg: SegmentedContour, i: usize, tolerance: f64| -> Result<FittedContour> {
+        // The drawing bound stays the trace's: a widened contour is drawn as exactly.
+        let lsq_options = fit::lsq::LsqOptions {
+            tolerance,
+            ..lsq_options.clone()
+        };
         let mut chain = fit::lsq::fit_contour(&seg, &lsq_options);
         if let Some(opts) = &placement_options {
             chain = fit::placement::optimize_contour(&chain, opts, i)?;
@@ -410,12 +418,23 @@ pub fn trace_bitmap_with_progress(
     // repair re-traces from the borders, so the extracted copy is not kept (on a page it
     // is as large as the fitted points).
     let fit_indexed = |(i, c): (usize, Contour)| -> Result<(FittedContour, Vec<MergedCurve>)> {
-        let fitted = fit_one(find_breaks(&c, &break_options, Some(bitmap)), i)?;
+        let tolerance = if config.edge_tolerance {
+            config.tolerance * c.edge_scale()
+        } else {
+            config.tolerance
+        };
+        let fitted = fit_one(find_breaks(&c, &break_options, Some(bitmap)), i, tolerance)?;
         progress.advance(c.points.len() as u64);
         drop(c);
-        let merged = merge_options.as_ref().map_or_else(Vec::new, |opts| {
-            merge::outline::merge_contour(&fitted, opts)
-        });
+        let merged = if config.merge {
+            let opts = merge::outline::OutlineMergeOptions {
+                degree: config.merge_degree,
+                tolerance: fitted.tolerance,
+            };
+            merge::outline::merge_contour(&fitted, &opts)
+        } else {
+            Vec::new()
+        };
         Ok((fitted, merged))
     };
     // Contours are fitted independently (a metaheuristic's generator is seeded by the
@@ -453,6 +472,11 @@ pub fn trace_bitmap_with_progress(
             } else {
                 fidelity::SHAPE_LIMIT.max(config.tolerance)
             },
+            tolerance: config.tolerance,
+            widening: fitted
+                .iter()
+                .map(|c| c.tolerance - config.tolerance)
+                .fold(0.0, f64::max),
             region: config.min_area.max(2.0),
             bound,
         };
@@ -470,9 +494,13 @@ pub fn trace_bitmap_with_progress(
         if meta_options.is_none() {
             let over = fitted
                 .iter()
-                .flat_map(|c| &c.segments)
-                .map(|s| s.error.max_distance)
-                .filter(|&d| d > config.tolerance);
+                .flat_map(|c| {
+                    c.segments
+                        .iter()
+                        .map(|s| (s.error.max_distance, c.tolerance))
+                })
+                .filter(|&(d, tolerance)| d > tolerance)
+                .map(|(d, _)| d);
             for d in over {
                 fidelity.segments_over_tolerance += 1;
                 fidelity.worst_segment_distance = fidelity.worst_segment_distance.max(d);

@@ -108,6 +108,19 @@ pub(crate) struct ShapeArgs {
         help_heading = "Tracing"
     )]
     pub(crate) tolerance: f64,
+    /// Hold every outline to --tolerance, also where its edge is blurred.
+    ///
+    /// Hold every outline to --tolerance, also where its edge is blurred. By default an
+    /// outline whose grey levels rise from paper to ink over more than a sharp
+    /// anti-aliased edge's 0.65 px (a soft scan or photo, an upscaled image) is fitted to
+    /// --tolerance times the square root of that spread over 0.65 px, at most 3 times:
+    /// such an edge shows the shape only to the scale of its blur, and a tight fit
+    /// follows the ripples that blurring or upscaling leave (an image upscaled 4× has a
+    /// spread of about 1.1 px, and is fitted to 0.39 px). Sharp anti-aliased and bilevel
+    /// edges are never widened. The report gives each contour's tolerance and the
+    /// summary the widened contours.
+    #[arg(long, help_heading = "Tracing", hide_short_help = true)]
+    pub(crate) fixed_tolerance: bool,
     /// Turning angle (degrees) above which a point is a corner, a joint where the outline
     /// may turn sharply [G0 joint]; smaller angles are smooth joints [G1].
     #[arg(
@@ -269,6 +282,7 @@ impl ShapeArgs {
             min_area,
             corner_angle,
             tolerance: self.tolerance,
+            edge_tolerance: !self.fixed_tolerance,
             ..Config::default()
         })
     }

@@ -44,6 +44,18 @@ pub(crate) fn trace_warnings(name: &str, config: &Config, result: &TraceResult) 
     if let Some(problem) = fidelity_problem(config, result) {
         out.push(format!("warning: {name}: {problem}"));
     }
+    let widened = result
+        .contours
+        .iter()
+        .filter(|c| c.tolerance > config.tolerance);
+    let (count, widest) = widened.fold((0, 0.0f64), |(n, w), c| (n + 1, w.max(c.tolerance)));
+    if count > 0 {
+        let of = result.contours.len();
+        out.push(format!(
+            "note: {name}: {count} of {of} outlines have blurred edges and were fitted to a tolerance of up to {widest:.2} px (--fixed-tolerance holds them to {} px)",
+            config.tolerance
+        ));
+    }
     let f = &result.fidelity;
     if config.check && f.segments_over_tolerance > 0 {
         let (n, plural) = match f.segments_over_tolerance {

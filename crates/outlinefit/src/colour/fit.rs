@@ -94,6 +94,7 @@ pub(crate) fn fit_boundary(
             points: line.to_vec(),
             is_hole: false,
             parent: None,
+            edge_spread: None,
         };
         let fitted = fit_contour(&find_breaks(&contour, breaks, None), lsq);
         if !fitted.segments.is_empty() {
@@ -128,6 +129,7 @@ pub(crate) fn fit_boundary(
         points: padded,
         is_hole: false,
         parent: None,
+        edge_spread: None,
     };
     let mut seg = find_breaks(&contour, breaks, None);
     // The ends, wherever the breaks left them (they may insert or replace points).

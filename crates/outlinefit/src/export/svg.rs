@@ -271,6 +271,7 @@ pub(crate) mod tests {
             parent,
             segments,
             joints,
+            tolerance: 0.3,
         }
     }
 

@@ -91,13 +91,15 @@ pub(crate) const SHAPE_LIMIT: f64 = 1.0;
 /// The verdict on one traced image, as reported.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Fidelity {
-    /// True when every data point is within `deviation_limit` of the drawn outline and no
-    /// region of disagreement exceeds `region_limit`.
+    /// True when every data point is within its contour's deviation limit of the drawn
+    /// outline and no region of disagreement exceeds `region_limit`.
     pub held: bool,
     /// Largest distance (px) from a boundary data point to the drawn outline.
     pub max_deviation: f64,
     /// The deviation the trace promises (px): the tolerance plus the SVG approximation
-    /// bound for `lsq`, `SHAPE_LIMIT` for metaheuristic fits.
+    /// bound for `lsq`, `SHAPE_LIMIT` for metaheuristic fits; the largest over the
+    /// contours, where a blurred edge widened a contour's tolerance (each contour is held
+    /// to its own tolerance plus the same bounds).
     pub deviation_limit: f64,
     /// Area (px², counted in pixels) of the largest region where the drawn shape and the
     /// thresholded input disagree farther than `SHAPE_LIMIT` (or the deviation limit, when
@@ -112,7 +114,7 @@ pub struct Fidelity {
     /// Shapes or holes the first trace had lost, restored by the repair.
     pub restored_contours: usize,
     /// Segments of an `lsq` fit whose largest data-point distance (`max_distance` in
-    /// their report) is above `--tolerance`: pieces too short to split (under 7 data
+    /// their report) is above their contour's tolerance: pieces too short to split (under 7 data
     /// points, about 5 px, between two corners). They are within `deviation_limit`, so
     /// the verdict can hold; they are counted here, and the program warns, because the
     /// tolerance was asked for. Always 0 for the metaheuristic fits, which promise none.
@@ -171,8 +173,13 @@ impl Findings {
 /// The limits of a check.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Limits {
-    /// Largest data-point deviation (px).
+    /// Largest data-point deviation (px) of a contour fitted to the trace's tolerance.
     pub(crate) deviation: f64,
+    /// The trace's tolerance (px).
+    pub(crate) tolerance: f64,
+    /// Largest widening (px) of a contour's tolerance beyond the trace's (a blurred edge,
+    /// `Contour::edge_scale`).
+    pub(crate) widening: f64,
     /// Largest region area (px²).
     pub(crate) region: f64,
     /// Approximation bound of the SVG's cubics (px).
@@ -183,9 +190,16 @@ impl Limits {
     /// Distance (px) from the drawn outline beyond which a disagreeing pixel is far:
     /// [`SHAPE_LIMIT`], or the deviation limit when a loose tolerance allows more (a fit
     /// that may stray 2 px from its data may leave pixels 2 px from the outline on the
-    /// wrong side; it is the tolerance the user asked for, not a lost part).
+    /// wrong side; it is the tolerance the user asked for, not a lost part), with the
+    /// widest contour's widening (one limit for the whole image).
     pub(crate) fn far(&self) -> f64 {
-        SHAPE_LIMIT.max(self.deviation)
+        SHAPE_LIMIT.max(self.deviation + self.widening)
+    }
+
+    /// Largest data-point deviation (px) of `contour`: [`Limits::deviation`], plus what
+    /// its own tolerance adds to the trace's (a blurred edge's).
+    pub(crate) fn deviation_of(&self, contour: &FittedContour) -> f64 {
+        self.deviation + (contour.tolerance - self.tolerance).max(0.0)
     }
 }
 
@@ -514,6 +528,7 @@ pub(crate) fn check_again(
         if polylines[i].is_empty() {
             return (0.0, Vec::new());
         }
+        let limit = limits.deviation_of(c);
         let at = |&p: &Point| match grid.nearest(p, deviation_reach, Some(i as u32)) {
             Some((d, _)) => d,
             None => distance_to_closed_polyline(p, &polylines[i]),
@@ -530,7 +545,7 @@ pub(crate) fn check_again(
             } else {
                 c.points.iter().map(at).collect()
             };
-            return worst_and_bad(&deviation, limits.deviation);
+            return worst_and_bad(&deviation, limit);
         };
         // The largest bound's point first: its distance is a floor of the worst, and a
         // point whose bound is below both that floor and the limit is neither the worst
@@ -541,7 +556,7 @@ pub(crate) fn check_again(
         } else {
             at(&c.points[first])
         };
-        let needed = floor.min(limits.deviation);
+        let needed = floor.min(limit);
         let measure = |(k, p): (usize, &Point)| {
             if k == first && bound[k] > needed {
                 floor
@@ -557,7 +572,7 @@ pub(crate) fn check_again(
         } else {
             c.points.iter().enumerate().map(measure).collect()
         };
-        worst_and_bad(&deviation, limits.deviation)
+        worst_and_bad(&deviation, limit)
     };
     let per_contour: Vec<(f64, Vec<usize>)> = if parallel {
         contours.par_iter().enumerate().map(deviation_of).collect()
@@ -975,6 +990,8 @@ mod tests {
         let traced = crate::trace_bitmap(&stripes, &config).unwrap();
         let limits = Limits {
             deviation: 0.325,
+            tolerance: config.tolerance,
+            widening: 0.0,
             region: 2.0,
             bound: config.lsq_options().export_bound,
         };
@@ -1026,6 +1043,8 @@ mod tests {
         let contours = crate::trace_bitmap(bitmap, &config).unwrap().contours;
         let limits = Limits {
             deviation: 0.325,
+            tolerance: config.tolerance,
+            widening: 0.0,
             region: 2.0,
             bound: config.lsq_options().export_bound,
         };
@@ -1150,7 +1169,7 @@ mod tests {
                     assert!(d <= b, "round {round}, contour {i}, point {k}: {d} > {b}");
                     polynomial += usize::from(b.is_finite());
                 }
-                let (worst, bad) = worst_and_bad(&exact, limits.deviation);
+                let (worst, bad) = worst_and_bad(&exact, limits.deviation_of(c));
                 assert_eq!(findings.worst[i], worst, "round {round}, contour {i}");
                 assert_eq!(findings.bad_points[i], bad, "round {round}, contour {i}");
                 assert_eq!(bad.is_empty(), round == 0, "round {round}, contour {i}");

@@ -336,6 +336,7 @@ pub(crate) fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedCo
             parent: seg.parent,
             segments: Vec::new(),
             joints: Vec::new(),
+            tolerance: opts.tolerance,
         };
     }
     let corners: Vec<usize> = (0..joints.len())
@@ -557,6 +558,7 @@ pub(super) fn assemble(
         parent,
         segments,
         joints: joints_out,
+        tolerance: opts.tolerance,
     }
 }
 
@@ -739,6 +741,7 @@ pub(crate) fn refit_runs(
             parent: seg.parent,
             segments,
             joints: joints_out,
+            tolerance: opts.tolerance,
         },
         refitted,
     )
@@ -797,6 +800,7 @@ mod tests {
             points: ellipse(220),
             is_hole: false,
             parent: None,
+            edge_spread: None,
         };
         let seg = find_breaks(&c, &BreakOptions::for_image(50.0, 128, 128), None);
         let opts = LsqOptions {

@@ -221,6 +221,9 @@ pub struct FittedContour {
     pub segments: Vec<FittedSegment>,
     /// `joints[i]` is where `segments[i − 1]` ends and `segments[i]` starts.
     pub joints: Vec<Joint>,
+    /// The tolerance (px) the contour was fitted to: the trace's `--tolerance`, widened
+    /// on a blurred edge (see `Config::edge_tolerance`) and tightened by a repair.
+    pub tolerance: f64,
 }
 
 impl FittedContour {

@@ -469,6 +469,7 @@ mod tests {
             points: blob(400),
             is_hole: false,
             parent: None,
+            edge_spread: None,
         };
         let config = Config {
             timings: false,

@@ -111,6 +111,7 @@ pub(crate) fn rebuild(base: &FittedContour, segments: Vec<FittedSegment>) -> Fit
         parent: base.parent,
         segments,
         joints,
+        tolerance: base.tolerance,
     }
 }
 

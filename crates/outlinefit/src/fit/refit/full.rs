@@ -219,6 +219,7 @@ mod tests {
                 points: pts,
                 is_hole: false,
                 parent: None,
+                edge_spread: None,
             },
             &BreakOptions::for_image(50.0, 100, 100),
             None,
