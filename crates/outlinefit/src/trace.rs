@@ -490,16 +490,21 @@ pub fn trace_bitmap_with_progress(
             timings: config.timings,
             progress,
         };
+        // What each contour was promised: its tolerance before the repair, which may fit
+        // it tighter (a restored contour, added at the end, is held to `tolerance`).
+        let promised: Vec<f64> = fitted.iter().map(|c| c.tolerance).collect();
         let mut fidelity = repair::check_and_repair(input, &mut fitted, &mut merged)?;
         if meta_options.is_none() {
             let over = fitted
                 .iter()
-                .flat_map(|c| {
+                .enumerate()
+                .flat_map(|(i, c)| {
+                    let promise = promised.get(i).copied().unwrap_or(config.tolerance);
                     c.segments
                         .iter()
-                        .map(|s| (s.error.max_distance, c.tolerance))
+                        .map(move |s| (s.error.max_distance, promise))
                 })
-                .filter(|&(d, tolerance)| d > tolerance)
+                .filter(|&(d, promise)| d > promise)
                 .map(|(d, _)| d);
             for d in over {
                 fidelity.segments_over_tolerance += 1;

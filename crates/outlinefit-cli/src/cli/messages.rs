@@ -62,9 +62,14 @@ pub(crate) fn trace_warnings(name: &str, config: &Config, result: &TraceResult) 
             1 => (1, "segment lies"),
             n => (n, "segments lie"),
         };
+        let limit = if count > 0 {
+            "their outline's tolerance (widened on blurred edges)".to_string()
+        } else {
+            format!("--tolerance {} px", config.tolerance)
+        };
         out.push(format!(
-            "warning: {name}: {n} {plural} farther than --tolerance {} px from their data (up to {:.2} px): too short to split (see \"segments_over_tolerance\" in the report)",
-            config.tolerance, f.worst_segment_distance
+            "warning: {name}: {n} {plural} farther than {limit} from their data (up to {:.2} px): too short to split (see \"segments_over_tolerance\" in the report)",
+            f.worst_segment_distance
         ));
     }
     out
