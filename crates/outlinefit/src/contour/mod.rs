@@ -73,6 +73,10 @@
 //!    * *Soft edges*: a boundary where more than `SOFT_SHARE` of the ±2 px integration
 //!      windows end short of paper or ink (a blurred or upscaled edge) is refined again
 //!      with `Window::SOFT` (±8 px, up to 1 px across the crack).
+//!    * *Edge spread*: on a grey-level image every border's spread is measured (the
+//!      10–90 % rise of the coverage along its gradient at up to 32 cracks, as a
+//!      Gaussian's σ, `grey::edge_spread`); a blurred edge widens its outline's
+//!      tolerance (`Contour::edge_scale`).
 //!    * *Noisy grey levels*: a grey-level outline whose refined points are noisy
 //!      (`outline_noise` above `NOISE_LIMIT`: JPEG ringing, scanner grain) is replaced
 //!      by the bilevel outline of its pixels, so the fit does not follow the noise.
@@ -156,8 +160,9 @@ pub(crate) struct Contour {
 /// bilinear interpolation give 0.29–0.62 px (on the development corpus's glyphs, icons and
 /// stress shapes every contour measures 0.53–0.624 px).
 pub(crate) const SHARP_EDGE_SPREAD: f64 = 0.65;
-/// Largest widening of the tolerance on a blurred edge (an edge 9 times as wide as a
-/// sharp one: σ ≈ 6 px, an image upscaled about 20×).
+/// Largest widening of the tolerance on a blurred edge, for a spread of 5.85 px. The
+/// measure's 8 px reach keeps the spreads it finds below about 4 px (a widening of 2.5),
+/// so this is a guard, not a limit met in practice.
 pub(crate) const MAX_EDGE_SCALE: f64 = 3.0;
 
 impl Contour {
