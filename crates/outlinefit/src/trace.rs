@@ -386,6 +386,7 @@ pub fn trace_bitmap_with_progress(
         bitmap,
         &ContourOptions {
             min_area: config.min_area,
+            edge_spread: config.edge_tolerance,
         },
     )?;
     if extraction.contours.is_empty() {

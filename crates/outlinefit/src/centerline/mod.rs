@@ -515,6 +515,7 @@ pub fn trace_centerline(
         bitmap,
         &ContourOptions {
             min_area: config.min_area,
+            edge_spread: false,
         },
     )?;
     if extraction.contours.is_empty() {

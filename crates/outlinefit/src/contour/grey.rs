@@ -84,9 +84,13 @@ pub(super) fn outline_noise(points: &[Point]) -> f64 {
     if r.is_empty() {
         return 0.0;
     }
-    let mid = r.len() / 2;
-    let (_, median, _) = r.select_nth_unstable_by(mid, f64::total_cmp);
-    *median / 0.6745 / 70f64.sqrt()
+    median(&mut r) / 0.6745 / 70f64.sqrt()
+}
+
+/// The median of `values` (the upper one of an even count); reorders them. Not empty.
+fn median(values: &mut [f64]) -> f64 {
+    let mid = values.len() / 2;
+    *values.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 /// Spread (px) of an edge as the standard deviation of the Gaussian blur that gives its
@@ -151,9 +155,7 @@ fn rise_walk(
 /// noise smoothed by following the running minimum outwards). `None` where it does not
 /// fall by [`SPREAD_MIN_RISE`] within [`SPREAD_REACH`] each way, or turns back.
 fn crack_spread(bitmap: &Bitmap, crack: &Crack, profile: &mut Vec<f64>) -> Option<f64> {
-    let n = gradient_normal(bitmap, crack)
-        .filter(|g| g.dot(crack.normal()) >= MIN_NORMAL_AGREEMENT)
-        .unwrap_or(crack.normal());
+    let n = edge_normal(bitmap, crack);
     let m = crack.mid();
     // The profile from its inner end outwards: inward samples reversed, `m`, outward.
     profile.clear();
@@ -203,9 +205,16 @@ pub(super) fn edge_spread(bitmap: &Bitmap, cracks: &[Crack]) -> Option<f64> {
     if spreads.len() < SPREAD_MIN_MEASURED || 2 * spreads.len() < sampled {
         return None;
     }
-    let mid = spreads.len() / 2;
-    let (_, median, _) = spreads.select_nth_unstable_by(mid, f64::total_cmp);
-    Some(*median)
+    Some(median(&mut spreads))
+}
+
+/// The direction (unit, towards the background) along which a crack's edge is measured:
+/// the coverage gradient ([`gradient_normal`]) where it does not point back into the
+/// foreground, else the crack's own normal.
+fn edge_normal(bitmap: &Bitmap, crack: &Crack) -> Point {
+    gradient_normal(bitmap, crack)
+        .filter(|g| g.dot(crack.normal()) >= MIN_NORMAL_AGREEMENT)
+        .unwrap_or(crack.normal())
 }
 
 /// Unit normal pointing down the coverage gradient (towards the background) at a crack,
@@ -279,9 +288,7 @@ fn refine_crack(
     estimator: EdgeEstimator,
     window: Window,
 ) -> (Point, Point, bool) {
-    let n = gradient_normal(bitmap, crack)
-        .filter(|g| g.dot(crack.normal()) >= MIN_NORMAL_AGREEMENT)
-        .unwrap_or(crack.normal());
+    let n = edge_normal(bitmap, crack);
     let (s, open) = match estimator {
         EdgeEstimator::CoverageIntegral => {
             let (s, open) = integrate_edge(bitmap, crack.mid(), n, window.steps);

@@ -135,6 +135,9 @@ pub(crate) struct ContourOptions {
     /// together with every contour nested inside them. Must be finite and ≥ 0.
     /// Default (in [`crate::Config`]): 2.0.
     pub min_area: f64,
+    /// Measure each grey-level border's edge spread ([`Contour::edge_spread`]); only a
+    /// trace that widens its tolerance on blurred edges needs it.
+    pub edge_spread: bool,
 }
 
 /// One closed boundary of a shape, as sub-pixel points in image pixel units.
@@ -414,7 +417,8 @@ fn extract_with(
                     smoothed_cracks(&cracks)
                 }
             };
-            let spread = (!bitmap.is_bilevel()).then(|| edge_spread(bitmap, &cracks));
+            let measure = opts.edge_spread && !bitmap.is_bilevel();
+            let spread = measure.then(|| edge_spread(bitmap, &cracks));
             let points = if bitmap.is_bilevel() {
                 bilevel(work)
             } else {

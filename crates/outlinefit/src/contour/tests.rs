@@ -28,7 +28,10 @@ fn binary(w: u32, h: u32, inside: impl Fn(f64, f64) -> bool) -> Vec<f32> {
 }
 
 fn opts(min_area: f64) -> ContourOptions {
-    ContourOptions { min_area }
+    ContourOptions {
+        min_area,
+        edge_spread: false,
+    }
 }
 
 /// Distance from `p` to the closed polyline.
@@ -635,7 +638,7 @@ fn bilevel_diagonal_strokes_keep_their_area() {
     let pixels = cov.iter().filter(|&&v| v > 0.5).count() as f64;
     let bm = Bitmap::from_coverage(w, h, cov, Some(0.5)).unwrap();
     assert!(bm.is_bilevel());
-    let cs = extract_contours(&bm, &ContourOptions { min_area: 2.0 }).unwrap();
+    let cs = extract_contours(&bm, &opts(2.0)).unwrap();
     assert_eq!(cs.len(), 1);
     let area = signed_area(&cs[0].points);
     assert!(
