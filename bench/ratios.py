@@ -6,7 +6,8 @@ usage: python3 bench/ratios.py [--repeats N] [--keep DIR] [--skip-corpus] [--qua
 
 Needs the benchmark folder beside the project (../shared/bench, or BENCH=DIR) with its
 corpus built (make_corpus.sh), potrace, GNU time (/usr/bin/time) and the release build
-(cargo build --release). Inputs are made in a temporary folder (or DIR):
+(cargo build --release; OUTLINEFIT=PATH times another build of ours, e.g. the statically
+linked one of the README's "Start-up" paragraph). Inputs are made in a temporary folder (or DIR):
 
   - scan:      a 600 dpi A4 page of 12-point serif text with scanner blur and noise
                (realworld/make_scan.py's scan.png, 4960 x 7016; potrace gets its scan.pbm);
@@ -39,7 +40,7 @@ from timing import run
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 BENCH = Path(os.environ.get("BENCH", ROOT.parent / "shared" / "bench")).resolve()
-OURS = str(ROOT / "target" / "release" / "outlinefit")
+OURS = os.environ.get("OUTLINEFIT", str(ROOT / "target" / "release" / "outlinefit"))
 
 args = sys.argv[1:]
 

@@ -72,7 +72,8 @@
 //!        regressed again with the corner in their windows.
 //!    * *Soft edges*: a boundary where more than `SOFT_SHARE` of the ±2 px integration
 //!      windows end short of paper or ink (a blurred or upscaled edge) is refined again
-//!      with `Window::SOFT` (±8 px, up to 1 px across the crack).
+//!      with `Window::SOFT` (±8 px, up to 1 px across the crack); a border whose
+//!      measured spread is at least `SOFT_SPREAD` (2 px) is refined with it at once.
 //!    * *Edge spread*: on a grey-level image every border's spread is measured (the
 //!      10–90 % rise of the coverage along its gradient at up to 32 cracks, as a
 //!      Gaussian's σ, `grey::edge_spread`); a blurred edge widens its outline's
@@ -122,7 +123,9 @@ use crate::error::{Error, Result};
 use crate::geom::{signed_area, Point};
 use crate::raster::Bitmap;
 use bilevel::{follows_cracks, smoothed_cracks};
-use grey::{edge_spread, outline_noise, EdgeEstimator, Window, NOISE_LIMIT, SOFT_SHARE};
+use grey::{
+    edge_spread, outline_noise, EdgeEstimator, Window, NOISE_LIMIT, SOFT_SHARE, SOFT_SPREAD,
+};
 use mask::{CrackLoop, FoundBorder, PaddedMask};
 use serde::Serialize;
 use spikes::extend_spikes;
@@ -422,15 +425,19 @@ fn extract_with(
             let points = if bitmap.is_bilevel() {
                 bilevel(work)
             } else {
-                let sharp = Window::SHARP;
-                let refined = work
-                    .refined_outline(bitmap, &cracks, estimator, sharp, Some(SOFT_SHARE))
-                    .unwrap_or_else(|| {
-                        // A soft edge: refined with the window that spans it.
-                        let soft = Window::SOFT;
-                        let all = work.refined_outline(bitmap, &cracks, estimator, soft, None);
-                        all.unwrap_or_default()
-                    });
+                // A soft edge is refined with the window that spans it: at once when its
+                // measured spread says so, else once the sharp window has found it open.
+                let soft = |work: &mut Workspace| {
+                    let all = work.refined_outline(bitmap, &cracks, estimator, Window::SOFT, None);
+                    all.unwrap_or_default()
+                };
+                let refined = if spread.flatten().is_some_and(|s| s >= SOFT_SPREAD) {
+                    soft(work)
+                } else {
+                    let sharp = Window::SHARP;
+                    work.refined_outline(bitmap, &cracks, estimator, sharp, Some(SOFT_SHARE))
+                        .unwrap_or_else(|| soft(work))
+                };
                 if outline_noise(&refined) > NOISE_LIMIT {
                     // The grey levels are noise (JPEG ringing, scanner grain), not
                     // anti-aliasing: refining to them would fit the noise. Trace the
