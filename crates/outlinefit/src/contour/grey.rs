@@ -759,6 +759,40 @@ mod tests {
         assert!((spread / expected - 1.0).abs() < 0.1, "spread {spread}");
     }
 
+    /// A border whose spread reaches `SOFT_SPREAD` skips the sharp pass: on every blurred
+    /// disc where that happens (σ = 2.5 px and up, and perhaps 2 px), more than
+    /// `SOFT_SHARE` of the sharp windows are open, so the pass would have been abandoned
+    /// and the soft window used anyway; below it (σ ≤ 1.5 px) the windows decide.
+    #[test]
+    fn a_spread_that_skips_the_sharp_pass_is_one_whose_windows_are_open() {
+        let estimator = EdgeEstimator::CoverageIntegral;
+        let mut skipped = Vec::new();
+        for sigma in [0.4, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5] {
+            let b = blurred_disc(sigma);
+            let mut mask = crate::contour::mask::PaddedMask::new(&b).unwrap();
+            let found = mask.borders();
+            assert_eq!(found.len(), 1);
+            let cracks = &found[0].cracks;
+            let spread = edge_spread(&b, cracks).unwrap();
+            if spread < SOFT_SPREAD {
+                assert!(sigma < 2.5, "σ = {sigma}: spread {spread}");
+                continue;
+            }
+            assert!(sigma >= 2.0, "σ = {sigma}: spread {spread}");
+            let open = cracks
+                .iter()
+                .filter(|c| refine_crack(&b, c, estimator, Window::SHARP).2)
+                .count();
+            assert!(
+                open as f64 > SOFT_SHARE * cracks.len() as f64,
+                "σ = {sigma}: {open} of {} windows open",
+                cracks.len()
+            );
+            skipped.push(sigma);
+        }
+        assert!(skipped.contains(&3.0), "{skipped:?}");
+    }
+
     /// The sharp pass gives up on a soft edge as soon as more than `SOFT_SHARE` of its
     /// windows are open, and on a sharp one runs to the end and gives what it gives
     /// without the limit.
