@@ -7,7 +7,8 @@ usage: python3 bench/ratios.py [--repeats N] [--keep DIR] [--skip-corpus] [--qua
 Needs the benchmark folder beside the project (../shared/bench, or BENCH=DIR) with its
 corpus built (make_corpus.sh), potrace, GNU time (/usr/bin/time) and the release build
 (cargo build --release; OUTLINEFIT=PATH times another build of ours, e.g. the statically
-linked one of the README's "Start-up" paragraph). Inputs are made in a temporary folder (or DIR):
+linked one of the README's "Start-up" paragraph). Inputs are made in a temporary folder
+(or DIR):
 
   - scan:      a 600 dpi A4 page of 12-point serif text with scanner blur and noise
                (realworld/make_scan.py's scan.png, 4960 x 7016; potrace gets its scan.pbm);
