@@ -706,6 +706,23 @@ mod tests {
         Bitmap::from_coverage(60, 60, coverage, Some(0.5)).unwrap()
     }
 
+    /// The cracks of the one border of a blurred disc.
+    fn disc_cracks(b: &Bitmap) -> Vec<Crack> {
+        let mut mask = crate::contour::mask::PaddedMask::new(b).unwrap();
+        let mut found = mask.borders();
+        assert_eq!(found.len(), 1);
+        found.remove(0).cracks
+    }
+
+    /// How many of `cracks` have an open window when refined with [`Window::SHARP`].
+    fn open_sharp_windows(b: &Bitmap, cracks: &[Crack]) -> usize {
+        let estimator = EdgeEstimator::CoverageIntegral;
+        cracks
+            .iter()
+            .filter(|c| refine_crack(b, c, estimator, Window::SHARP).2)
+            .count()
+    }
+
     /// The edge spread of a disc blurred by σ is √(σ² + 1/6) within 4 % from σ = 1 to 3 px
     /// (the samples' bilinear interpolation adds the 1/6 px²; beyond 3 px the walk's 8 px
     /// reach ends before the coverage levels out, and the spread comes out short: 3.7 px
@@ -715,10 +732,7 @@ mod tests {
     fn the_edge_spread_of_a_blurred_disc_is_its_blur() {
         for sigma in [0.05, 0.3, 1.0, 1.5, 2.0, 3.0] {
             let b = blurred_disc(sigma);
-            let mut mask = crate::contour::mask::PaddedMask::new(&b).unwrap();
-            let found = mask.borders();
-            assert_eq!(found.len(), 1);
-            let spread = edge_spread(&b, &found[0].cracks).unwrap();
+            let spread = edge_spread(&b, &disc_cracks(&b)).unwrap();
             if sigma < 0.5 {
                 assert!(
                     spread < crate::contour::SHARP_EDGE_SPREAD,
@@ -765,24 +779,17 @@ mod tests {
     /// and the soft window used anyway; below it (σ ≤ 1.5 px) the windows decide.
     #[test]
     fn a_spread_that_skips_the_sharp_pass_is_one_whose_windows_are_open() {
-        let estimator = EdgeEstimator::CoverageIntegral;
         let mut skipped = Vec::new();
         for sigma in [0.4, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5] {
             let b = blurred_disc(sigma);
-            let mut mask = crate::contour::mask::PaddedMask::new(&b).unwrap();
-            let found = mask.borders();
-            assert_eq!(found.len(), 1);
-            let cracks = &found[0].cracks;
+            let cracks = &disc_cracks(&b);
             let spread = edge_spread(&b, cracks).unwrap();
             if spread < SOFT_SPREAD {
                 assert!(sigma < 2.5, "σ = {sigma}: spread {spread}");
                 continue;
             }
             assert!(sigma >= 2.0, "σ = {sigma}: spread {spread}");
-            let open = cracks
-                .iter()
-                .filter(|c| refine_crack(&b, c, estimator, Window::SHARP).2)
-                .count();
+            let open = open_sharp_windows(&b, cracks);
             assert!(
                 open as f64 > SOFT_SHARE * cracks.len() as f64,
                 "σ = {sigma}: {open} of {} windows open",
@@ -801,14 +808,8 @@ mod tests {
         let estimator = EdgeEstimator::CoverageIntegral;
         for (sigma, soft) in [(0.4, false), (3.0, true)] {
             let b = blurred_disc(sigma);
-            let mut mask = crate::contour::mask::PaddedMask::new(&b).unwrap();
-            let found = mask.borders();
-            assert_eq!(found.len(), 1);
-            let cracks = &found[0].cracks;
-            let open = cracks
-                .iter()
-                .filter(|c| refine_crack(&b, c, estimator, Window::SHARP).2)
-                .count();
+            let cracks = &disc_cracks(&b);
+            let open = open_sharp_windows(&b, cracks);
             assert_eq!(
                 open as f64 > SOFT_SHARE * cracks.len() as f64,
                 soft,
