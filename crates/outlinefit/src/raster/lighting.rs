@@ -235,22 +235,36 @@ impl PaperMap {
         count >= 2 && count as f64 >= UNEVEN_BLOCKS * n as f64 && dark_paper().any(|i| self.ink[i])
     }
 
-    /// The paper level at pixel (x, y): bilinear between block centres, capped.
-    fn level_row(&self, y: usize, out: &mut [f32]) {
+    /// Where each of `width` pixel columns lies between block centres: the two block
+    /// columns it is interpolated from and the second one's share. The same on every
+    /// row, so a page computes it once instead of once per pixel.
+    fn column_weights(&self, width: usize) -> Vec<(usize, usize, f32)> {
         let b = self.block as f32;
-        // Position in block-centre units, clamped to the grid.
+        (0..width)
+            .map(|x| {
+                // Position in block-centre units, clamped to the grid.
+                let fx = ((x as f32 + 0.5) / b - 0.5).clamp(0.0, (self.cols - 1) as f32);
+                let c0 = fx as usize;
+                (c0, (c0 + 1).min(self.cols - 1), fx - c0 as f32)
+            })
+            .collect()
+    }
+
+    /// The paper level of every pixel of row `y`: bilinear between block centres, capped.
+    /// `columns` is [`PaperMap::column_weights`] of the row's width.
+    fn level_row(&self, y: usize, columns: &[(usize, usize, f32)], out: &mut [f32]) {
+        let b = self.block as f32;
         let fy = ((y as f32 + 0.5) / b - 0.5).clamp(0.0, (self.rows - 1) as f32);
         let r0 = fy as usize;
         let r1 = (r0 + 1).min(self.rows - 1);
         let ty = fy - r0 as f32;
-        for (x, o) in out.iter_mut().enumerate() {
-            let fx = ((x as f32 + 0.5) / b - 0.5).clamp(0.0, (self.cols - 1) as f32);
-            let c0 = fx as usize;
-            let c1 = (c0 + 1).min(self.cols - 1);
-            let tx = fx - c0 as f32;
-            let at = |r: usize, c: usize| self.paper[r * self.cols + c];
-            let top = at(r0, c0) + (at(r0, c1) - at(r0, c0)) * tx;
-            let bottom = at(r1, c0) + (at(r1, c1) - at(r1, c0)) * tx;
+        let (top_row, bottom_row) = (
+            &self.paper[r0 * self.cols..(r0 + 1) * self.cols],
+            &self.paper[r1 * self.cols..(r1 + 1) * self.cols],
+        );
+        for (o, &(c0, c1, tx)) in out.iter_mut().zip(columns) {
+            let top = top_row[c0] + (top_row[c1] - top_row[c0]) * tx;
+            let bottom = bottom_row[c0] + (bottom_row[c1] - bottom_row[c0]) * tx;
             *o = (top + (bottom - top) * ty).min(PAPER_CAP);
         }
     }
@@ -263,10 +277,11 @@ impl PaperMap {
         if width == 0 {
             return Levels::quantised(out);
         }
+        let columns = self.column_weights(width);
         let buffers = || (vec![0.0f32; width], vec![0.0f32; width]);
         let flatten_row = |(row, paper): &mut (Vec<f32>, Vec<f32>), y: usize, out: &mut [u16]| {
             coverage.read(y * width, row);
-            self.level_row(y, paper);
+            self.level_row(y, &columns, paper);
             for ((o, &c), &p) in out.iter_mut().zip(row.iter()).zip(paper.iter()) {
                 *o = levels::quantise((c - p) / (1.0 - p));
             }
@@ -363,23 +378,47 @@ mod tests {
         }
     }
 
-    /// A page large enough to be flattened on the thread pool gives, pixel for pixel,
-    /// the serial formula (c − p)/(1 − p) of its coverage and the map's paper level.
+    /// The paper level at pixel (x, y) computed on its own: the bilinear interpolation
+    /// between block centres, capped, as the module docs define it.
+    fn level_at(map: &PaperMap, x: usize, y: usize) -> f32 {
+        let b = map.block as f32;
+        let centre = |v: usize, n: usize| ((v as f32 + 0.5) / b - 0.5).clamp(0.0, (n - 1) as f32);
+        let (fx, fy) = (centre(x, map.cols), centre(y, map.rows));
+        let (c0, r0) = (fx as usize, fy as usize);
+        let (c1, r1) = ((c0 + 1).min(map.cols - 1), (r0 + 1).min(map.rows - 1));
+        let (tx, ty) = (fx - c0 as f32, fy - r0 as f32);
+        let at = |r: usize, c: usize| map.paper[r * map.cols + c];
+        let top = at(r0, c0) + (at(r0, c1) - at(r0, c0)) * tx;
+        let bottom = at(r1, c0) + (at(r1, c1) - at(r1, c0)) * tx;
+        (top + (bottom - top) * ty).min(PAPER_CAP)
+    }
+
+    /// A page large enough to be flattened on the thread pool gives, pixel for pixel and
+    /// bit for bit, the formula (c − p)/(1 − p) of its coverage and the paper level
+    /// computed pixel by pixel (the flattening takes the columns' share once per page).
     #[test]
-    fn a_large_page_flattened_in_parallel_is_the_row_by_row_formula() {
+    fn a_large_page_flattened_in_parallel_is_the_pixel_by_pixel_formula() {
         let (w, h) = (1301, 900);
         assert!(w * h >= PARALLEL_FLATTEN_PIXELS);
-        let page = lit_page(w, h, 0.05, 0.6);
+        // Lit from left to right, and darker towards the bottom: the paper level changes
+        // along both axes.
+        let mut page = lit_page(w, h, 0.05, 0.45);
+        for (i, c) in page.iter_mut().enumerate() {
+            let shade = 0.2 * (i / w) as f32 / h as f32;
+            *c = 1.0 - (1.0 - *c) * (1.0 - shade);
+        }
         let cov = levels_of(&page);
         let map = PaperMap::new(&cov, w, h);
+        let (top, bottom) = (map.paper[0], map.paper[(map.rows - 1) * map.cols]);
+        assert!(bottom - top > 0.1, "paper from {top} down to {bottom}");
         let flat = map.flatten(&cov, w, h);
-        let (mut row, mut paper, mut got) = (vec![0.0; w], vec![0.0; w], vec![0.0; w]);
+        let (mut row, mut got) = (vec![0.0; w], vec![0.0; w]);
         for y in 0..h {
             cov.read(y * w, &mut row);
-            map.level_row(y, &mut paper);
             flat.read(y * w, &mut got);
             for x in 0..w {
-                let want = levels::quantise((row[x] - paper[x]) / (1.0 - paper[x]));
+                let paper = level_at(&map, x, y);
+                let want = levels::quantise((row[x] - paper) / (1.0 - paper));
                 let want = f32::from(want) / 65535.0;
                 assert_eq!(got[x].to_bits(), want.to_bits(), "({x}, {y})");
             }
