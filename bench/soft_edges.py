@@ -5,7 +5,8 @@ and with --fixed-tolerance) against potrace, scored by the benchmark's score.py.
 usage: python3 bench/soft_edges.py [--keep DIR] [--limit N]
 
 Needs the benchmark folder beside the project (../shared/bench, or BENCH=DIR) with its
-corpus built (make_corpus.sh), potrace, and the release build (cargo build --release).
+corpus built (make_corpus.sh), potrace, and the release build (cargo build --release;
+OUTLINEFIT=PATH scores another build of ours).
 From the corpus's anti-aliased 64 px and 256 px glyphs it makes three subsets in a
 temporary folder (or DIR), each item with its truth:
 
@@ -30,7 +31,7 @@ from PIL import Image, ImageFilter
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 BENCH = Path(os.environ.get("BENCH", ROOT.parent / "shared" / "bench"))
-OURS = ROOT / "target" / "release" / "outlinefit"
+OURS = Path(os.environ.get("OUTLINEFIT", ROOT / "target" / "release" / "outlinefit"))
 
 SUBSETS = {
     # name: (source subset, make the image from the source PNG, truth scale)
