@@ -20,7 +20,9 @@
 //!    pixel where they disagree and whose centre lies more than [`SHAPE_LIMIT`] (1 px, or
 //!    the deviation limit when a loose tolerance allows more) from the drawn outline is a
 //!    *far* pixel: at most a pixel from the outline, a disagreement is only where the edge
-//!    crosses the pixel. Far pixels are grouped into 8-connected
+//!    crosses the pixel. A pixel within that distance of a crossing of its own row's
+//!    centre line (found by the rasterization) is near at once; the others ask a grid of
+//!    the drawn edges. Far pixels are grouped into 8-connected
 //!    regions; a region larger than max(`--min-area`, 2) px² is a lost or invented part
 //!    (smaller ones are specks that `--min-area` drops on purpose).
 //! 3. **Dense disagreement** (`dense`): the disagreeing pixels that are not far are
