@@ -1113,12 +1113,9 @@ mod tests {
         let nearest = |p: u32| {
             let w = bitmap.width();
             let centre = Point::new(f64::from(p % w) + 0.5, f64::from(p / w) + 0.5);
-            (0..polylines.len() as u32)
-                .flat_map(|i| (0..polylines[i as usize].len() as u32).map(move |k| (i, k)))
-                .map(|key| {
-                    let e = edge_of(&polylines, key);
-                    segment_distance(centre, e.a, e.b)
-                })
+            polylines
+                .iter()
+                .map(|line| distance_to_closed_polyline(centre, line))
                 .fold(f64::INFINITY, f64::min)
         };
         let far = limits.far();

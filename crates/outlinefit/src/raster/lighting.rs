@@ -239,25 +239,24 @@ impl PaperMap {
     /// columns it is interpolated from and the second one's share. The same on every
     /// row, so a page computes it once instead of once per pixel.
     fn column_weights(&self, width: usize) -> Vec<(usize, usize, f32)> {
-        let b = self.block as f32;
         (0..width)
-            .map(|x| {
-                // Position in block-centre units, clamped to the grid.
-                let fx = ((x as f32 + 0.5) / b - 0.5).clamp(0.0, (self.cols - 1) as f32);
-                let c0 = fx as usize;
-                (c0, (c0 + 1).min(self.cols - 1), fx - c0 as f32)
-            })
+            .map(|x| self.between_centres(x, self.cols))
             .collect()
+    }
+
+    /// Where pixel `v` lies between the centres of `n` blocks along one axis: the two
+    /// blocks it is interpolated from and the second one's share (its position in
+    /// block-centre units, clamped to the grid).
+    fn between_centres(&self, v: usize, n: usize) -> (usize, usize, f32) {
+        let f = ((v as f32 + 0.5) / self.block as f32 - 0.5).clamp(0.0, (n - 1) as f32);
+        let first = f as usize;
+        (first, (first + 1).min(n - 1), f - first as f32)
     }
 
     /// The paper level of every pixel of row `y`: bilinear between block centres, capped.
     /// `columns` is [`PaperMap::column_weights`] of the row's width.
     fn level_row(&self, y: usize, columns: &[(usize, usize, f32)], out: &mut [f32]) {
-        let b = self.block as f32;
-        let fy = ((y as f32 + 0.5) / b - 0.5).clamp(0.0, (self.rows - 1) as f32);
-        let r0 = fy as usize;
-        let r1 = (r0 + 1).min(self.rows - 1);
-        let ty = fy - r0 as f32;
+        let (r0, r1, ty) = self.between_centres(y, self.rows);
         let (top_row, bottom_row) = (
             &self.paper[r0 * self.cols..(r0 + 1) * self.cols],
             &self.paper[r1 * self.cols..(r1 + 1) * self.cols],
