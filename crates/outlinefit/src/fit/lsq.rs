@@ -16,6 +16,9 @@
 //!    within tolerance, so the outline keeps few segments; every merge candidate searches
 //!    weights where its polynomial cubic misses. A closed contour keeps at least two
 //!    segments.
+//! 5. A segment that still misses the tolerance but is too short to split gets a corner at
+//!    its worst point when both sides then fit, and the merge runs again around the new
+//!    corners.
 //!
 //! No split or merge crosses a corner, so a contour with two or more corners is fitted run
 //! by run (corner to corner), in parallel on a large contour.
@@ -418,9 +421,6 @@ fn fit_chain(
         let weights = run_len(n, a.index, b.index) < SPLIT_WEIGHTS_POINTS;
         fit_piece(points, a, b, opts, weights, buf)
     };
-    let merge_fit = |a: &JointSpec, b: &JointSpec, buf: &mut Vec<Point>| -> Piece {
-        fit_piece(points, a, b, opts, true, buf)
-    };
 
     // Runs (between two joint indices) known not to fit within tolerance: a split
     // records the run it split, so merging cannot try it again. A long run was tried as
@@ -473,8 +473,44 @@ fn fit_chain(
         k += 1;
     }
 
-    // Merging across smooth joints while within tolerance. A failed merge of the run
-    // between two given joints is remembered: it would fail again.
+    merge_pieces(
+        points,
+        &mut joints,
+        &mut pieces,
+        &mut failed,
+        closed,
+        opts,
+        &mut buf,
+    );
+    // Corners in runs too short to split; their neighbours may then merge across their
+    // other ends.
+    if corner_short_misses(points, &mut joints, &mut pieces, opts, &mut buf) {
+        merge_pieces(
+            points,
+            &mut joints,
+            &mut pieces,
+            &mut failed,
+            closed,
+            opts,
+            &mut buf,
+        );
+    }
+    (joints, pieces)
+}
+
+/// Merges adjacent pieces across smooth joints while the merged fit stays within
+/// tolerance and draws with no more SVG cubics. A failed merge of the run between two
+/// given joints is remembered in `failed`: it would fail again. An open chain merges at
+/// its inner joints only.
+fn merge_pieces(
+    points: &[Point],
+    joints: &mut Vec<JointSpec>,
+    pieces: &mut Vec<Piece>,
+    failed: &mut std::collections::HashSet<(usize, usize)>,
+    closed: bool,
+    opts: &LsqOptions,
+    buf: &mut Vec<Point>,
+) {
     loop {
         let mut merged_any = false;
         // An open chain merges at its inner joints only.
@@ -489,11 +525,12 @@ fn fit_chain(
                     j += 1;
                     continue;
                 }
-                let mut candidate = merge_fit(&joints[prev], &joints[next], &mut buf);
+                let mut candidate =
+                    fit_piece(points, &joints[prev], &joints[next], opts, true, buf);
                 // Accept when within tolerance and not more SVG pieces than before.
                 let bound = opts.export_bound;
                 if candidate.max_residual > opts.tolerance
-                    || adds_pieces(&mut candidate, &mut pieces, prev, j, bound)
+                    || adds_pieces(&mut candidate, pieces, prev, j, bound)
                 {
                     failed.insert(key);
                 } else {
@@ -512,8 +549,56 @@ fn fit_chain(
             break;
         }
     }
+}
 
-    (joints, pieces)
+/// Gives each piece that still misses the tolerance but is too short to split
+/// ([`MIN_SPLIT_POINTS`]) a corner at its worst point, where the check's repair would
+/// put it, when both sides then fit within the tolerance; its end joints keep their
+/// tangents. Returns whether it added a corner. Such a piece is mostly a step of a
+/// staircase (an image upscaled from a bilevel one) between two smooth joints, which no
+/// cubic with both end tangents fixed follows: without the corner the check finds the
+/// drawn path off its data there and its repair puts the corner in a round of its own,
+/// refitting every run it cuts (on the 800 px bicubic horse, 64 such pieces cost a repair
+/// round as long as the whole fit).
+fn corner_short_misses(
+    points: &[Point],
+    joints: &mut Vec<JointSpec>,
+    pieces: &mut Vec<Piece>,
+    opts: &LsqOptions,
+    buf: &mut Vec<Point>,
+) -> bool {
+    let n = points.len();
+    let mut inserted = false;
+    let mut k = 0;
+    while k < pieces.len() {
+        let (a, b) = (joints[k], joints[(k + 1) % joints.len()]);
+        let len = run_len(n, a.index, b.index);
+        if pieces[k].max_residual <= opts.tolerance || !(3..MIN_SPLIT_POINTS).contains(&len) {
+            k += 1;
+            continue;
+        }
+        let sol = &pieces[k].solution;
+        cyclic_run(points, a.index, b.index, buf);
+        let distance = |i: usize| sol.curve.eval(sol.params[i]).distance(buf[i]);
+        let worst = (2..len - 1).fold(1, |w, i| if distance(i) > distance(w) { i } else { w });
+        let corner = JointSpec {
+            index: (a.index + worst) % n,
+            kind: JointKind::Corner,
+            tangent: None,
+        };
+        let left = fit_piece(points, &a, &corner, opts, true, buf);
+        let right = fit_piece(points, &corner, &b, opts, true, buf);
+        if left.max_residual.max(right.max_residual) <= opts.tolerance {
+            joints.insert(k + 1, corner);
+            pieces[k] = left;
+            pieces.insert(k + 1, right);
+            inserted = true;
+            k += 2;
+        } else {
+            k += 1;
+        }
+    }
+    inserted
 }
 
 /// True when the `merged` candidate is drawn with more SVG cubics than `pieces[left]` and
@@ -876,6 +961,63 @@ mod tests {
             assert!(p.solution.curve.is_polynomial(), "{:?}", p.solution.curve);
             assert!(p.max_residual <= 0.08, "{}", p.max_residual);
         }
+    }
+
+    /// A line that turns by 60° two points after a smooth joint and runs on for two
+    /// points to the next: no cubic leaving along the first line and arriving along the
+    /// second follows the turn, and the run of five points is too short to split. The
+    /// chain puts a corner at the turn, every piece is then within the tolerance, and the
+    /// lines merge across the smooth joints up to the corner.
+    #[test]
+    fn a_turn_too_short_to_split_gets_a_corner_inside_it() {
+        let p = Point::new;
+        let (dx, dy) = (0.5, 0.75f64.sqrt());
+        let mut points: Vec<Point> = (0..=12).map(|k| p(0.8 * k as f64, 0.0)).collect();
+        points.extend((1..=12).map(|k| p(9.6 + 0.8 * dx * k as f64, 0.8 * dy * k as f64)));
+        let last = points.len() - 1;
+        let opts = LsqOptions::for_tolerance(0.02, false);
+        let joint = |index, tangent: Option<Point>| JointSpec {
+            index,
+            kind: if tangent.is_some() {
+                JointKind::Smooth
+            } else {
+                JointKind::Corner
+            },
+            tangent,
+        };
+        let (first, second) = (Some(p(1.0, 0.0)), Some(p(dx, dy)));
+        let (i1, i2) = (10, 14);
+        assert!(run_len(points.len(), i1, i2) < MIN_SPLIT_POINTS);
+        let mut buf = Vec::new();
+        let smooth = fit_piece(
+            &points,
+            &joint(i1, first),
+            &joint(i2, second),
+            &opts,
+            true,
+            &mut buf,
+        );
+        assert!(smooth.max_residual > 0.02, "{}", smooth.max_residual);
+        let chain = vec![
+            joint(0, None),
+            joint(i1, first),
+            joint(i2, second),
+            joint(last, None),
+        ];
+        let (joints, pieces) = fit_chain(&points, chain, false, &opts);
+        for piece in &pieces {
+            assert!(piece.max_residual <= 0.02, "{}", piece.max_residual);
+        }
+        // The corner at the turn, and the lines on both sides merged up to it.
+        let kinds: Vec<(usize, JointKind)> = joints.iter().map(|j| (j.index, j.kind)).collect();
+        assert_eq!(
+            kinds,
+            [
+                (0, JointKind::Corner),
+                (12, JointKind::Corner),
+                (last, JointKind::Corner)
+            ]
+        );
     }
 
     /// A 60 px square whose sides wave by 1.5 px, 60 points a side, corners at 0, 60,
