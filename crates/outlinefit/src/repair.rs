@@ -56,8 +56,9 @@ const MAX_ROUNDS: usize = CHECK_ROUNDS as usize - 1;
 const LADDER_WORK: f64 = 3.0;
 
 /// Contours that may take the steps between the corners and the pixel polygon: an
-/// ordinary image has a few dozen to repair (a 600 dpi page of text: 26 of 2 932), noise
-/// or a speck field thousands, whose pixel-scale detail only the pixel polygon follows.
+/// ordinary image has a few dozen to repair at most (a 600 dpi page of text: none of
+/// 2 932), noise or a speck field thousands, whose pixel-scale detail only the pixel
+/// polygon follows.
 const LADDER_CONTOURS: usize = 256;
 
 /// Data points of a contour from which a tighter fit refits only the runs (corner to
