@@ -89,8 +89,8 @@ fn many_contours_give_the_same_result_on_one_and_three_threads() {
 }
 
 /// A 840 × 840 star of 20 spikes (radii 400 and 300 px, 4 × 4 supersampled): one contour
-/// of more than 4 000 points with 40 corners, whose runs from corner to corner and whose
-/// segment errors are computed in parallel.
+/// of more than 4 000 points with 40 corners, whose cracks are refined, and whose runs
+/// from corner to corner and segment errors are computed, in parallel.
 fn star() -> Bitmap {
     let n = 840usize;
     let c = n as f64 / 2.0;
@@ -127,6 +127,7 @@ fn one_large_contour_with_corners_gives_the_same_result_on_one_and_three_threads
     assert_eq!(one.contours.len(), 1);
     let contour = &one.contours[0];
     assert!(contour.points.len() >= 4000, "{}", contour.points.len());
+    assert_eq!(contour.points, three.contours[0].points);
     let corners = contour
         .joints
         .iter()
