@@ -473,18 +473,11 @@ fn fit_chain(
         k += 1;
     }
 
-    merge_pieces(
-        points,
-        &mut joints,
-        &mut pieces,
-        &mut failed,
-        closed,
-        opts,
-        &mut buf,
-    );
-    // Corners in runs too short to split; their neighbours may then merge across their
-    // other ends.
-    if corner_short_misses(points, &mut joints, &mut pieces, opts, &mut buf) {
+    // Merging across smooth joints, then corners in runs too short to split, whose
+    // neighbours may then merge across their other ends. A second corner pass finds only
+    // pieces that failed the first (a merge never leaves a piece over the tolerance) and
+    // ends the loop.
+    loop {
         merge_pieces(
             points,
             &mut joints,
@@ -494,6 +487,9 @@ fn fit_chain(
             opts,
             &mut buf,
         );
+        if !corner_short_misses(points, &mut joints, &mut pieces, opts, &mut buf) {
+            break;
+        }
     }
     (joints, pieces)
 }
