@@ -508,9 +508,7 @@ impl Workspace {
                 return None;
             }
             for (p, n, _) in refined {
-                self.points.push(p);
-                self.tangents.push(n.perp());
-                self.anchors.push(false);
+                self.push_refined(p, n);
             }
         } else {
             let mut open_windows = 0;
@@ -520,10 +518,7 @@ impl Workspace {
                 if soft.is_some_and(|limit| open_windows as f64 > limit) {
                     return None;
                 }
-                self.points.push(p);
-                // Walking direction, foreground on the right: the normal turned by +90°.
-                self.tangents.push(n.perp());
-                self.anchors.push(false);
+                self.push_refined(p, n);
             }
         }
         self.remove_close_and_backsteps();
@@ -531,6 +526,14 @@ impl Workspace {
         self.correct_curvature_bias();
         self.mark_turns();
         Some(self.resample())
+    }
+
+    /// Adds a refined crack: its point, and its walking direction (foreground on the
+    /// right: the normal `n` turned by +90°).
+    fn push_refined(&mut self, p: Point, n: Point) {
+        self.points.push(p);
+        self.tangents.push(n.perp());
+        self.anchors.push(false);
     }
 
     /// Grey-level path: on a curved edge the coverage integral is biased towards the

@@ -444,17 +444,8 @@ fn fit_chain(
         let len = run_len(n, a.index, b.index);
         if pieces[k].max_residual > opts.tolerance && len >= MIN_SPLIT_POINTS {
             // Split at the worst point, away from the ends.
-            let sol = &pieces[k].solution;
             cyclic_run(points, a.index, b.index, &mut buf);
-            let mut worst = len / 2;
-            let mut worst_d = -1.0;
-            for i in 3..len - 3 {
-                let d = sol.curve.eval(sol.params[i]).distance(buf[i]);
-                if d > worst_d {
-                    worst_d = d;
-                    worst = i;
-                }
-            }
+            let worst = worst_point(&pieces[k].solution, &buf, 3..len - 3).unwrap_or(len / 2);
             let index = (a.index + worst) % n;
             let mid = JointSpec {
                 index,
@@ -573,10 +564,8 @@ fn corner_short_misses(
             k += 1;
             continue;
         }
-        let sol = &pieces[k].solution;
         cyclic_run(points, a.index, b.index, buf);
-        let distance = |i: usize| sol.curve.eval(sol.params[i]).distance(buf[i]);
-        let worst = (2..len - 1).fold(1, |w, i| if distance(i) > distance(w) { i } else { w });
+        let worst = worst_point(&pieces[k].solution, buf, 1..len - 1).unwrap_or(1);
         let corner = JointSpec {
             index: (a.index + worst) % n,
             kind: JointKind::Corner,
@@ -595,6 +584,25 @@ fn corner_short_misses(
         }
     }
     inserted
+}
+
+/// The first of the points `run[range]` farthest from `solution`'s curve at their
+/// parameters; `None` when the range is empty.
+fn worst_point(
+    solution: &SegmentSolution,
+    run: &[Point],
+    range: std::ops::Range<usize>,
+) -> Option<usize> {
+    let mut worst = None;
+    let mut worst_d = -1.0;
+    for i in range {
+        let d = solution.curve.eval(solution.params[i]).distance(run[i]);
+        if d > worst_d {
+            worst_d = d;
+            worst = Some(i);
+        }
+    }
+    worst
 }
 
 /// True when the `merged` candidate is drawn with more SVG cubics than `pieces[left]` and
