@@ -380,7 +380,20 @@ fn fit_between_corners(
     let fit_run = |run: Vec<JointSpec>| fit_chain(points, run, false, opts);
     let fitted: Vec<(Vec<JointSpec>, Vec<Piece>)> = if points.len() >= PARALLEL_RUN_POINTS {
         use rayon::prelude::*;
-        runs.into_par_iter().map(fit_run).collect()
+        // Longest runs first: a large shape's longest run can hold a fifth of its points,
+        // and started last it would finish alone. Each run is its own task; the results
+        // go back to the contour's order.
+        let n = points.len();
+        let span = |run: &[JointSpec]| (run[run.len() - 1].index + n - run[0].index) % n;
+        let mut indexed: Vec<(usize, Vec<JointSpec>)> = runs.into_iter().enumerate().collect();
+        indexed.sort_by_key(|(_, run)| std::cmp::Reverse(span(run)));
+        let mut done: Vec<(usize, (Vec<JointSpec>, Vec<Piece>))> = indexed
+            .into_par_iter()
+            .with_max_len(1)
+            .map(|(r, run)| (r, fit_run(run)))
+            .collect();
+        done.sort_unstable_by_key(|&(r, _)| r);
+        done.into_iter().map(|(_, fitted)| fitted).collect()
     } else {
         runs.into_iter().map(fit_run).collect()
     };
