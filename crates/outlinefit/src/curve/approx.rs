@@ -38,7 +38,7 @@
 //! non-finite cubics rather than an error; callers that write files check for that.
 
 use super::cubic::{end_direction, start_direction, CubicBez};
-use super::power::{PowerCubic, CONVERGED_STEP, EXACT_STEP};
+use super::power::{PowerCubic, CONVERGED_STEP};
 use super::RationalCubic;
 use crate::geom::Point;
 use crate::linalg::cramer2;
@@ -309,7 +309,14 @@ fn fit_cubic(curve: &RationalCubic, start: Point, end: Point, bound: f64) -> Cub
 /// of the curve's distance to the cubic and the cubic's to the curve) at the fit samples
 /// and the midpoints between them, with each projection started from the known correspondence of the fit
 /// instead of a global scan. A projection that stalls in a local minimum can only report a
-/// larger distance, so the shortcut errs towards splitting.
+/// larger distance, so the shortcut errs towards splitting. Both projections stop at
+/// Newton steps below [`CONVERGED_STEP`]: on a curve of 1000 px such a step moves the foot
+/// by 1e-7 px, and the distance, stationary at the foot, by far less, against a bound of
+/// at least 0.005 px. Running the rational one on to round-off ([`EXACT_STEP`]'s 1e-15)
+/// took 7 % of the processor time of the 1600 px bicubic horse and drew the same bytes
+/// (the horse series, the scan, the upscaled page, the 912 corpus SVGs).
+///
+/// [`EXACT_STEP`]: super::power::EXACT_STEP
 fn check_distance(curve: &RationalCubic, fit: &CubicFit) -> f64 {
     let n = FIT_INTERVALS;
     // Both curves' power forms made once (each projection call would make its own).
@@ -325,7 +332,7 @@ fn check_distance(curve: &RationalCubic, fit: &CubicFit) -> f64 {
         for &(u, s) in &pairs[..if k > 0 { 2 } else { 1 }] {
             let d1 = cubic.refine_projection(curve.eval(u), s, CONVERGED_STEP).1;
             let d2 = rational
-                .refine_projection(fit.cubic.eval(s), u, EXACT_STEP)
+                .refine_projection(fit.cubic.eval(s), u, CONVERGED_STEP)
                 .1;
             if d1.is_nan() || d2.is_nan() {
                 return f64::NAN;
