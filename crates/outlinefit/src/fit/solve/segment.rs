@@ -13,7 +13,7 @@ use super::weights::follow_valley;
 use super::weights::grid_starts;
 use super::weights::search_weights;
 use super::weights::strided;
-use crate::curve::power::EXACT_STEP;
+use crate::curve::power::CONVERGED_STEP;
 use crate::curve::rational::nearest_sample;
 use crate::curve::rational::RationalCubic;
 use crate::fit::SegmentError;
@@ -306,7 +306,11 @@ fn reproject(curve: &RationalCubic, points: &[Point], params: &mut [f64]) -> f64
 
 /// Error measures of `curve` against `points` with parameters `params`: Eq. 4 at the given
 /// parameters, and point-to-curve distances by global projection (a scan of the curve
-/// followed by Newton), so a poor parameter cannot hide or inflate a distance.
+/// followed by Newton), so a poor parameter cannot hide or inflate a distance. Newton
+/// stops at steps below [`CONVERGED_STEP`] (1e-10 of the parameter): a distance is then
+/// exact to far below a pixel's millionth, and one of a point lying on the curve reads
+/// 1e-8 px or less instead of 1e-12. Running on to round-off took 4 % of the processor
+/// time of the 600 dpi scan of `make_scan.py` and changed no drawn byte.
 pub fn segment_error(curve: &RationalCubic, points: &[Point], params: &[f64]) -> SegmentError {
     let n = points.len().max(1);
     let mut sum_sq = 0.0;
@@ -317,14 +321,14 @@ pub fn segment_error(curve: &RationalCubic, points: &[Point], params: &[f64]) ->
     let power = curve.power_form();
     for (q, &u) in points.iter().zip(params) {
         sum_sq += (curve.eval(u) - *q).length_squared();
-        let (foot, local) = power.refine_projection(*q, u, EXACT_STEP);
+        let (foot, local) = power.refine_projection(*q, u, CONVERGED_STEP);
         // The global search refines from the scan's nearest sample; when that sample is
         // next to the local foot, it lies in the same basin and would find the same foot.
         let start = nearest_sample(scan.iter().copied(), *q);
         let d = if start.abs_diff((foot * SAMPLES as f64).round() as usize) <= 1 {
             local
         } else {
-            let global = power.refine_projection(*q, start as f64 / SAMPLES as f64, EXACT_STEP);
+            let global = power.refine_projection(*q, start as f64 / SAMPLES as f64, CONVERGED_STEP);
             local.min(global.1)
         };
         max_d = max_d.max(d);
