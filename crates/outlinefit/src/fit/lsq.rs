@@ -353,6 +353,9 @@ pub(crate) fn fit_contour(seg: &SegmentedContour, opts: &LsqOptions) -> FittedCo
     assemble(points, seg.is_hole, seg.parent, &joints, pieces, opts)
 }
 
+/// A chain's joints and the pieces between them, as [`fit_chain`] returns them.
+type ChainFit = (Vec<JointSpec>, Vec<Piece>);
+
 /// Fewest contour points for which the runs between corners of one contour are fitted in
 /// parallel (see [`fit_between_corners`]).
 const PARALLEL_RUN_POINTS: usize = 4000;
@@ -366,7 +369,7 @@ fn fit_between_corners(
     joints: Vec<JointSpec>,
     corners: &[usize],
     opts: &LsqOptions,
-) -> (Vec<JointSpec>, Vec<Piece>) {
+) -> ChainFit {
     let m = joints.len();
     let runs: Vec<Vec<JointSpec>> = corners
         .iter()
@@ -378,7 +381,7 @@ fn fit_between_corners(
         })
         .collect();
     let fit_run = |run: Vec<JointSpec>| fit_chain(points, run, false, opts);
-    let fitted: Vec<(Vec<JointSpec>, Vec<Piece>)> = if points.len() >= PARALLEL_RUN_POINTS {
+    let fitted: Vec<ChainFit> = if points.len() >= PARALLEL_RUN_POINTS {
         use rayon::prelude::*;
         // Longest runs first: a large shape's longest run can hold a fifth of its points,
         // and started last it would finish alone. Each run is its own task; the results
@@ -387,7 +390,7 @@ fn fit_between_corners(
         let span = |run: &[JointSpec]| (run[run.len() - 1].index + n - run[0].index) % n;
         let mut indexed: Vec<(usize, Vec<JointSpec>)> = runs.into_iter().enumerate().collect();
         indexed.sort_by_key(|(_, run)| std::cmp::Reverse(span(run)));
-        let mut done: Vec<(usize, (Vec<JointSpec>, Vec<Piece>))> = indexed
+        let mut done: Vec<(usize, ChainFit)> = indexed
             .into_par_iter()
             .with_max_len(1)
             .map(|(r, run)| (r, fit_run(run)))
@@ -425,7 +428,7 @@ fn fit_chain(
     mut joints: Vec<JointSpec>,
     closed: bool,
     opts: &LsqOptions,
-) -> (Vec<JointSpec>, Vec<Piece>) {
+) -> ChainFit {
     let n = points.len();
     let mut buf = Vec::new();
     // While splitting, only a short piece searches weights (see `SPLIT_WEIGHTS_POINTS`);
