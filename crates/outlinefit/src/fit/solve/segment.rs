@@ -307,10 +307,12 @@ fn reproject(curve: &RationalCubic, points: &[Point], params: &mut [f64]) -> f64
 /// Error measures of `curve` against `points` with parameters `params`: Eq. 4 at the given
 /// parameters, and point-to-curve distances by global projection (a scan of the curve
 /// followed by Newton), so a poor parameter cannot hide or inflate a distance. Newton
-/// stops at steps below [`CONVERGED_STEP`] (1e-10 of the parameter): a distance is then
-/// exact to far below a pixel's millionth, and one of a point lying on the curve reads
-/// 1e-8 px or less instead of 1e-12. Running on to round-off took 4 % of the processor
-/// time of the 600 dpi scan of `make_scan.py` and changed no drawn byte.
+/// stops at steps below [`CONVERGED_STEP`] (1e-10 of the parameter): the foot is then off
+/// by at most that step, which moves the distance of a point off the curve by far less
+/// than a pixel's millionth, and that of a point lying on the curve by at most the step
+/// times the curve's speed (about 1e-7 px on a segment 1000 px long; 8.7e-9 px on the
+/// bundled samples, instead of 2.2e-12). Running on to round-off took 4 % of the
+/// processor time of the 600 dpi scan of `make_scan.py` and changed no drawn byte.
 pub fn segment_error(curve: &RationalCubic, points: &[Point], params: &[f64]) -> SegmentError {
     let n = points.len().max(1);
     let mut sum_sq = 0.0;
