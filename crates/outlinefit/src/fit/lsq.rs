@@ -387,9 +387,9 @@ fn fit_between_corners(
         // and started last it would finish alone. Each run is its own task; the results
         // go back to the contour's order.
         let n = points.len();
-        let span = |run: &[JointSpec]| (run[run.len() - 1].index + n - run[0].index) % n;
+        let points_of = |run: &[JointSpec]| run_len(n, run[0].index, run[run.len() - 1].index);
         let mut indexed: Vec<(usize, Vec<JointSpec>)> = runs.into_iter().enumerate().collect();
-        indexed.sort_by_key(|(_, run)| std::cmp::Reverse(span(run)));
+        indexed.sort_by_key(|(_, run)| std::cmp::Reverse(points_of(run)));
         let mut done: Vec<(usize, ChainFit)> = indexed
             .into_par_iter()
             .with_max_len(1)
