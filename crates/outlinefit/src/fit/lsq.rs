@@ -114,6 +114,10 @@ const POLYNOMIAL_GIVE_UP: f64 = 24.0;
 /// halves cannot be split again always has the weight search.
 const SPLIT_WEIGHTS_POINTS: usize = 14;
 
+/// Data points the early rounds of a long run's polynomial cubic see (see
+/// [`FitSettings::coarse_points`]).
+const COARSE_POINTS: usize = 24;
+
 /// Shortest run (data points, ends included) that is split when it misses the tolerance.
 const MIN_SPLIT_POINTS: usize = 7;
 
@@ -258,6 +262,7 @@ pub(super) fn fit_piece(
         polish_iterations: opts.settings.polish_iterations,
         reparam_rounds: POLYNOMIAL_ROUNDS,
         give_up: Some(POLYNOMIAL_GIVE_UP * opts.tolerance),
+        coarse_points: Some(COARSE_POINTS),
         ..FitSettings::polynomial()
     };
     cyclic_run(points, a.index, b.index, buf);

@@ -257,3 +257,78 @@ fn the_give_up_bound_tightens_with_each_round() {
     );
     assert_ne!(passed.curve, one_round.curve);
 }
+
+#[test]
+fn coarse_rounds_recover_an_exact_cubic_and_match_the_full_fit_on_noisy_data() {
+    // Exact data from a polynomial cubic, 300 points at uneven parameters, the fit
+    // started from those parameters: the early rounds on 24 to 48 of the points, the
+    // points between them given interpolated parameters and projected, and the last two
+    // rounds on every point give back the curve.
+    let truth = RationalCubic::new(
+        [
+            Point::new(0.0, 0.0),
+            Point::new(30.0, 80.0),
+            Point::new(120.0, 90.0),
+            Point::new(150.0, 10.0),
+        ],
+        [1.0, 1.0],
+    );
+    let params: Vec<f64> = (0..300)
+        .map(|i| {
+            let t = i as f64 / 299.0;
+            t * t * (3.0 - 2.0 * t)
+        })
+        .collect();
+    let data: Vec<Point> = params.iter().map(|&u| truth.eval(u)).collect();
+    let (t0, t3) = (truth.start_tangent().unwrap(), truth.end_tangent().unwrap());
+    let settings = |coarse_points| FitSettings {
+        reparam_rounds: 4,
+        polish_iterations: 0,
+        coarse_points,
+        ..FitSettings::polynomial()
+    };
+    let (start, end) = (EndCondition::Tangent(t0), EndCondition::Tangent(t3));
+    let coarse = fit_segment_from(&data, start, end, &settings(Some(24)), Some(&params));
+    for (a, b) in coarse.curve.points.iter().zip(&truth.points) {
+        assert!(a.distance(*b) < 1e-9, "{a:?} against {b:?}");
+    }
+    let far = farthest_at_params(&coarse, &data);
+    // Newton stops at steps of 1e-10 of the parameter, a few nanopixels here.
+    assert!(far < 1e-7, "{far}");
+    // As many solves as with every round on every point, most of them on the subset.
+    let full = fit_segment_from(&data, start, end, &settings(None), Some(&params));
+    assert_eq!(coarse.evaluations, full.evaluations);
+    // Parameters stay ordered and within [0, 1], the ends exact.
+    assert_eq!(coarse.params[0], 0.0);
+    assert_eq!(coarse.params[299], 1.0);
+    assert!(coarse.params.windows(2).all(|w| w[0] <= w[1]));
+    for (u, v) in coarse.params.iter().zip(&params) {
+        assert!((u - v).abs() < 1e-9);
+    }
+
+    // Noisy data along an arc with free ends, four rounds as the tracer runs them: the
+    // coarse fit's largest distance is within 2 % of the full fit's.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let arc: Vec<Point> = (0..160)
+        .map(|i| {
+            let a = i as f64 / 159.0 * 2.0;
+            let r = 80.0 + rng.random_range(-0.1..0.1);
+            Point::new(r * a.cos(), r * a.sin())
+        })
+        .collect();
+    let four = settings;
+    let (free, free_end) = (EndCondition::Free, EndCondition::Free);
+    let coarse = fit_segment(&arc, free, free_end, &four(Some(24)));
+    let full = fit_segment(&arc, free, free_end, &four(None));
+    let (dc, df) = (
+        max_dist_to(&coarse.curve, &arc),
+        max_dist_to(&full.curve, &arc),
+    );
+    assert!((dc - df).abs() < 0.02 * df, "coarse {dc} full {df}");
+    // A run shorter than twice the subset is fitted on every point, exactly as without.
+    let short = &arc[..47];
+    assert_eq!(
+        fit_segment(short, free, free_end, &four(Some(24))).curve,
+        fit_segment(short, free, free_end, &four(None)).curve
+    );
+}
