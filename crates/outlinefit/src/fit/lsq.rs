@@ -114,14 +114,6 @@ const POLYNOMIAL_GIVE_UP: f64 = 24.0;
 /// halves cannot be split again always has the weight search.
 const SPLIT_WEIGHTS_POINTS: usize = 14;
 
-/// Data points the early rounds of a long run's polynomial cubic see (see
-/// [`FitSettings::coarse_points`]), so runs of 64 points or more have them. On the corpus
-/// the polynomial fits of runs of 65 points or more then take 0.74x the CPU, `batch` 0.95x
-/// its time (15 alternating runs); the scan, whose runs are mostly shorter, 1.01x. 24 (runs
-/// from 48 points) changed twice as many corpus items for no more speed: dev-glyph256's
-/// Hausdorff distance +1.1 % instead of +0.6 %.
-const COARSE_POINTS: usize = 32;
-
 /// Shortest run (data points, ends included) that is split when it misses the tolerance.
 const MIN_SPLIT_POINTS: usize = 7;
 
@@ -266,7 +258,6 @@ pub(super) fn fit_piece(
         polish_iterations: opts.settings.polish_iterations,
         reparam_rounds: POLYNOMIAL_ROUNDS,
         give_up: Some(POLYNOMIAL_GIVE_UP * opts.tolerance),
-        coarse_points: Some(COARSE_POINTS),
         ..FitSettings::polynomial()
     };
     cyclic_run(points, a.index, b.index, buf);

@@ -56,16 +56,6 @@ pub struct FitSettings {
     /// The bound tightens because each round brings the curve closer to where it ends.
     /// `None` always runs every round.
     pub give_up: Option<f64>,
-    /// A fit with fixed weights of a run of at least twice this many data points runs its
-    /// rounds of parameter correction but the last two on every k-th point (and the
-    /// last), k the largest step that keeps this many, so between this many and twice as
-    /// many. The other points then get parameters interpolated between those of their
-    /// neighbours in the subset and projected onto the subset's curve, and the last two
-    /// rounds (solve, project) run on every point. The early rounds only bring the
-    /// parameters near the feet, which a few dozen points of a dense, smooth run do as
-    /// well as all of them; the last two give the fit of every point. Needs three rounds
-    /// or more. `None` runs every round on every point.
-    pub coarse_points: Option<usize>,
 }
 
 impl FitSettings {
@@ -99,7 +89,6 @@ impl FitSettings {
             ],
             search_points: None,
             give_up: None,
-            coarse_points: None,
         }
     }
 }
@@ -115,7 +104,6 @@ impl Default for FitSettings {
             initial: &[Parameterization::Centripetal],
             search_points: None,
             give_up: None,
-            coarse_points: None,
         }
     }
 }

@@ -122,63 +122,39 @@ pub fn fit_segment_from(
     // With one run there is nothing to choose between: its objective (one more projection
     // of every point) is not needed.
     let single = runs.len() == 1;
-    // Early rounds on a subset of a long run (see `FitSettings::coarse_points`).
-    let coarse_stride = match settings.coarse_points {
-        Some(m) if settings.fixed_weights() && settings.reparam_rounds > FULL_ROUNDS => {
-            Some(points.len() / m.max(2)).filter(|&k| k > 1)
-        }
-        _ => None,
-    };
     for (k, w0) in runs {
         params.copy_from_slice(&inits[k]);
         let mut weights = w0;
+        let mut curve;
         let mut round = 0;
         let mut gave_up = false;
-        let mut coarse_curve = None;
-        if let Some(stride) = coarse_stride {
-            let early = coarse_rounds(
-                points,
-                &mut params,
-                stride,
-                start,
-                end,
-                scale,
-                weights,
-                settings,
-            );
-            evaluations += early.evaluations;
-            round = early.rounds;
-            gave_up = early.gave_up;
-            coarse_curve = gave_up.then_some(early.curve);
-        }
-        let mut curve = match coarse_curve {
-            Some(curve) => curve,
-            None => loop {
-                let model = LinearModel::with_scale(points, &params, start, end, scale);
-                if !settings.fixed_weights() {
-                    // Later rounds only adjust: the parameters moved a little.
-                    let step = if round == 0 { 0.5 } else { 0.1 };
-                    let coarse = search_model(&params);
-                    let searched = coarse.as_ref().unwrap_or(&model);
-                    let (w, _, ev) =
-                        search_weights(searched, settings.weight_range, weights, step, 0.02);
-                    evaluations += ev;
-                    weights = w;
-                }
-                let (z, _) = model.solve(weights);
-                evaluations += 1;
-                let curve = model.curve(&z, weights);
-                if round >= settings.reparam_rounds {
-                    break curve;
-                }
-                let far = reproject(&curve, points, &mut params);
-                round += 1;
-                if gives_up(settings, far, round) {
+        loop {
+            let model = LinearModel::with_scale(points, &params, start, end, scale);
+            if !settings.fixed_weights() {
+                // Later rounds only adjust: the parameters moved a little.
+                let step = if round == 0 { 0.5 } else { 0.1 };
+                let coarse = search_model(&params);
+                let searched = coarse.as_ref().unwrap_or(&model);
+                let (w, _, ev) =
+                    search_weights(searched, settings.weight_range, weights, step, 0.02);
+                evaluations += ev;
+                weights = w;
+            }
+            let (z, _) = model.solve(weights);
+            evaluations += 1;
+            curve = model.curve(&z, weights);
+            if round >= settings.reparam_rounds {
+                break;
+            }
+            let far = reproject(&curve, points, &mut params);
+            round += 1;
+            if let Some(limit) = settings.give_up {
+                if far > limit / round as f64 {
                     gave_up = true;
-                    break curve;
+                    break;
                 }
-            },
-        };
+            }
+        }
         // Leave the parameters at the feet of the points, so that residuals are distances
         // (a fit that gave up is already there).
         if !gave_up {
@@ -306,89 +282,6 @@ fn bent_straight_segment(
         ],
         [1.0, 1.0],
     )
-}
-
-/// Whether a fit `far` px from a point after `round` rounds of parameter correction gives
-/// up (see [`FitSettings::give_up`]).
-fn gives_up(settings: &FitSettings, far: f64, round: usize) -> bool {
-    settings
-        .give_up
-        .is_some_and(|limit| far > limit / round as f64)
-}
-
-/// Rounds of parameter correction of a coarse fit (see [`FitSettings::coarse_points`]) run
-/// on every point, the first from the subset's curve.
-const FULL_ROUNDS: usize = 2;
-
-/// What [`coarse_rounds`] did.
-struct Coarse {
-    /// The last curve solved on the subset.
-    curve: RationalCubic,
-    /// Rounds of parameter correction done, the last on every point.
-    rounds: usize,
-    /// Whether the fit gave up (see [`FitSettings::give_up`]).
-    gave_up: bool,
-    evaluations: u64,
-}
-
-/// The rounds of parameter correction of a fit with fixed `weights` but its last
-/// [`FULL_ROUNDS`], on every `stride`-th point of `points` (and the last); then every
-/// point's parameter is interpolated between those of its neighbours in the subset and
-/// projected onto the subset's curve, which is the first round on every point (see
-/// [`FitSettings::coarse_points`]). `params` holds the starting parameters and receives
-/// the projected ones. A round after which a point lies too far from the curve ends the
-/// rounds early (the fit gives up), and every point is then projected onto that round's
-/// curve.
-#[allow(clippy::too_many_arguments)]
-fn coarse_rounds(
-    points: &[Point],
-    params: &mut [f64],
-    stride: usize,
-    start: EndCondition,
-    end: EndCondition,
-    scale: f64,
-    weights: [f64; 2],
-    settings: &FitSettings,
-) -> Coarse {
-    let subset = strided(points, stride);
-    let mut sub_params = strided(params, stride);
-    let mut round = 0;
-    let mut evaluations = 0;
-    let mut gave_up = false;
-    let curve = loop {
-        let model = LinearModel::with_scale(&subset, &sub_params, start, end, scale);
-        let (z, _) = model.solve(weights);
-        evaluations += 1;
-        let curve = model.curve(&z, weights);
-        if round + FULL_ROUNDS >= settings.reparam_rounds {
-            break curve;
-        }
-        let far = reproject(&curve, &subset, &mut sub_params);
-        round += 1;
-        if gives_up(settings, far, round) {
-            gave_up = true;
-            break curve;
-        }
-    };
-    // The subset is points 0, stride, 2 stride, … and the last: each point between two of
-    // them gets the parameter its index places between theirs.
-    let last = points.len() - 1;
-    for (k, w) in sub_params.windows(2).enumerate() {
-        let a = k * stride;
-        let b = ((k + 1) * stride).min(last);
-        for (i, u) in params.iter_mut().enumerate().take(b).skip(a) {
-            *u = w[0] + (w[1] - w[0]) * (i - a) as f64 / (b - a) as f64;
-        }
-    }
-    params[last] = sub_params[sub_params.len() - 1];
-    let far = reproject(&curve, points, params);
-    round += 1;
-    Coarse {
-        curve,
-        rounds: round,
-        gave_up: gave_up || gives_up(settings, far, round),
-        evaluations,
-    }
 }
 
 /// Newton steps per point and round of parameter correction. Two rather than three: on
