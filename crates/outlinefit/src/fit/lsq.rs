@@ -370,23 +370,24 @@ fn fit_between_corners(
     corners: &[usize],
     opts: &LsqOptions,
 ) -> ChainFit {
-    let m = joints.len();
+    let (n, m) = (points.len(), joints.len());
+    // The corners are distinct (two or more), so each run spans fewer than all joints.
     let runs: Vec<Vec<JointSpec>> = corners
         .iter()
         .enumerate()
         .map(|(r, &c)| {
             let next = corners[(r + 1) % corners.len()];
-            let len = (next + m - c) % m + 1;
-            (0..len).map(|k| joints[(c + k) % m]).collect()
+            (0..run_len(m, c, next))
+                .map(|k| joints[(c + k) % m])
+                .collect()
         })
         .collect();
     let fit_run = |run: Vec<JointSpec>| fit_chain(points, run, false, opts);
-    let fitted: Vec<ChainFit> = if points.len() >= PARALLEL_RUN_POINTS {
+    let fitted: Vec<ChainFit> = if n >= PARALLEL_RUN_POINTS {
         use rayon::prelude::*;
         // Longest runs first: a large shape's longest run can hold a fifth of its points,
         // and started last it would finish alone. Each run is its own task; the results
         // go back to the contour's order.
-        let n = points.len();
         let points_of = |run: &[JointSpec]| run_len(n, run[0].index, run[run.len() - 1].index);
         let mut indexed: Vec<(usize, Vec<JointSpec>)> = runs.into_iter().enumerate().collect();
         indexed.sort_by_key(|(_, run)| std::cmp::Reverse(points_of(run)));
@@ -409,7 +410,6 @@ fn fit_between_corners(
         all_pieces.extend(run_pieces);
     }
     // Start again at the first joint of the original order that is left.
-    let n = points.len();
     let first = joints[0].index;
     let lead = (0..all_joints.len())
         .min_by_key(|&k| (all_joints[k].index + n - first) % n)
