@@ -736,7 +736,7 @@ mod tests {
 
     /// The cracks of the one border of a blurred disc.
     fn disc_cracks(b: &Bitmap) -> Vec<Crack> {
-        let mut mask = crate::contour::mask::PaddedMask::new(b).unwrap();
+        let mask = crate::contour::mask::PaddedMask::new(b).unwrap();
         let mut found = mask.borders();
         assert_eq!(found.len(), 1);
         found.remove(0).cracks
@@ -793,7 +793,7 @@ mod tests {
             })
             .collect();
         let b = Bitmap::from_coverage(60, 60, noisy, Some(0.5)).unwrap();
-        let mut mask = crate::contour::mask::PaddedMask::new(&b).unwrap();
+        let mask = crate::contour::mask::PaddedMask::new(&b).unwrap();
         let found = mask.borders();
         let outer = found.iter().max_by_key(|f| f.cracks.len()).unwrap();
         let spread = edge_spread(&b, &outer.cracks).unwrap();

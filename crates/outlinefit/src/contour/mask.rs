@@ -331,18 +331,9 @@ pub(super) struct PaddedMask {
     pub(super) height: i64,
     /// Foreground pixels.
     foreground: Bits,
-    /// Pixels whose left side is a crack already traced by [`PaddedMask::borders`].
-    traced: Bits,
 }
 
 impl PaddedMask {
-    /// Frees the record of traced cracks, which only [`PaddedMask::borders`] uses: a mask
-    /// kept for re-tracing borders later needs just its foreground (a bit per pixel; 4 MB
-    /// on a 600 dpi page).
-    pub(super) fn forget_traced(&mut self) {
-        self.traced = Bits::new(0);
-    }
-
     /// `None` when the padded size does not fit the cracks' 32-bit coordinates.
     pub(super) fn new(bitmap: &Bitmap) -> Option<PaddedMask> {
         let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
@@ -371,7 +362,6 @@ impl PaddedMask {
         Some(PaddedMask {
             width: i64::try_from(pw).ok()?,
             height: i64::try_from(h.checked_add(2)?).ok()?,
-            traced: Bits::new(len),
             foreground,
         })
     }
@@ -444,10 +434,39 @@ pub(super) struct FoundBorder {
 impl PaddedMask {
     /// Every border of the mask, in the order of their first vertical crack in a raster
     /// scan (row by row, left to right), so that a parent always comes before its
-    /// children. Marks the traced cracks in the mask.
-    pub(super) fn borders(&mut self) -> Vec<FoundBorder> {
+    /// children.
+    pub(super) fn borders(&self) -> Vec<FoundBorder> {
+        let mut found = Vec::new();
+        let parents = self.scan_borders(|cracks, is_hole| {
+            found.push(FoundBorder {
+                cracks,
+                is_hole,
+                parent: None,
+            })
+        });
+        for (border, parent) in found.iter_mut().zip(parents) {
+            border.parent = parent;
+        }
+        found
+    }
+
+    /// Hands every border of the mask to `each` (its cracks and whether it is a hole) as
+    /// the raster scan finds it, in the order of [`PaddedMask::borders`], and returns the
+    /// parent of each (see [`FoundBorder::parent`]), which is known only once the scan is
+    /// done. A caller can start work on the first borders while the scan goes on.
+    pub(super) fn scan_borders(
+        &self,
+        mut each: impl FnMut(Vec<Crack>, bool),
+    ) -> Vec<Option<usize>> {
         let (w, h) = (self.width as usize, self.height as usize);
-        let mut found: Vec<FoundBorder> = Vec::new();
+        // Pixels whose left side is a crack already traced.
+        let mut traced = Bits::new(self.foreground.0.len() * 64);
+        // Every border's kind, and the row, column and border of each of its vertical
+        // cracks: the crack just left of a border's first crack bounds the region that
+        // border sits in.
+        let mut holes: Vec<bool> = Vec::new();
+        let mut firsts: Vec<(usize, usize)> = Vec::new();
+        let mut vertical: Vec<(u32, u32, u32)> = Vec::new();
         let mut cracks = Vec::new();
         // Vertical cracks are where a pixel differs from its left neighbour; they are
         // found a 64-pixel word at a time (rows are consecutive in the bit sets, and the
@@ -455,12 +474,11 @@ impl PaddedMask {
         let (first, last) = (w + 1, h.saturating_sub(1) * w);
         for i in self.foreground.changes(first, last) {
             // A loop traced earlier in the scan may have passed here.
-            if self.traced.get(i) {
+            if traced.get(i) {
                 continue;
             }
             let (x, y) = (i % w, i / w);
-            let here = self.foreground.get(i);
-            let is_hole = !here;
+            let is_hole = !self.foreground.get(i);
             let (xi, yi) = (x as i64, y as i64);
             if is_hole {
                 // Down the right side of the foreground pixel on the left.
@@ -469,58 +487,54 @@ impl PaddedMask {
                 // Up the left side of this foreground pixel.
                 self.trace((xi, yi + 1), 3, &mut cracks);
             }
+            let index = holes.len() as u32;
             for (cx, cy) in cracks.iter().filter_map(vertical_crack) {
-                self.traced.set(cy * w + cx);
+                traced.set(cy * w + cx);
+                vertical.push((cy as u32, cx as u32, index));
             }
+            holes.push(is_hole);
+            // Every border starts with the vertical crack the scan found it by.
+            firsts.push((x, y));
             // A copy at its size: the buffer grew by doubling and is reused.
-            found.push(FoundBorder {
-                cracks: cracks.clone(),
-                is_hole,
-                parent: None,
-            });
+            each(cracks.clone(), is_hole);
         }
-        // Every vertical crack by row, sorted by column, with its border: the crack just
-        // left of a border's first crack bounds the region that border sits in.
+        drop(traced);
+        // The vertical cracks by row, sorted by column within a row.
         let mut row_start = vec![0usize; h + 1];
-        for b in &found {
-            for (_, cy) in b.cracks.iter().filter_map(vertical_crack) {
-                row_start[cy + 1] += 1;
-            }
+        for &(cy, _, _) in &vertical {
+            row_start[cy as usize + 1] += 1;
         }
         for y in 0..h {
             row_start[y + 1] += row_start[y];
         }
         let mut fill = row_start.clone();
-        let mut by_row = vec![(0u32, 0u32); row_start[h]];
-        for (i, b) in found.iter().enumerate() {
-            for (cx, cy) in b.cracks.iter().filter_map(vertical_crack) {
-                by_row[fill[cy]] = (cx as u32, i as u32);
-                fill[cy] += 1;
-            }
+        let mut by_row = vec![(0u32, 0u32); vertical.len()];
+        for &(cy, cx, b) in &vertical {
+            by_row[fill[cy as usize]] = (cx, b);
+            fill[cy as usize] += 1;
         }
+        drop(vertical);
         for y in 0..h {
             by_row[row_start[y]..row_start[y + 1]].sort_unstable();
         }
-        for i in 0..found.len() {
-            // Every border starts with the vertical crack the scan found it by.
-            let Some((x, y)) = found[i].cracks.first().and_then(vertical_crack) else {
-                continue;
-            };
+        let mut parents: Vec<Option<usize>> = Vec::with_capacity(holes.len());
+        for (i, &(x, y)) in firsts.iter().enumerate() {
             let row = &by_row[row_start[y]..row_start[y + 1]];
             let at = row.partition_point(|&(cx, _)| (cx as usize) < x);
-            found[i].parent = at.checked_sub(1).and_then(|k| {
+            let parent = at.checked_sub(1).and_then(|k| {
                 let left = row[k].1 as usize;
                 // The region between the two cracks is the inside of the left border
                 // when the kinds differ (an island in a hole, a hole in a shape), and
                 // the region around it otherwise (two shapes side by side).
-                if found[left].is_hole != found[i].is_hole {
+                if holes[left] != holes[i] {
                     Some(left)
                 } else {
-                    found[left].parent
+                    parents[left]
                 }
             });
+            parents.push(parent);
         }
-        found
+        parents
     }
 }
 
@@ -735,7 +749,7 @@ mod tests {
             let (w, h) = (rng.random_range(1..150), rng.random_range(1..60));
             let p = rng.random_range(0.2..0.8);
             let bitmap = random_mask(&mut rng, w, h, p, case % 4);
-            let mut mask = PaddedMask::new(&bitmap).unwrap();
+            let mask = PaddedMask::new(&bitmap).unwrap();
             let image = image::GrayImage::from_fn(mask.width as u32, mask.height as u32, |x, y| {
                 image::Luma([if mask.is_foreground((x.into(), y.into())) {
                     255
@@ -771,14 +785,13 @@ mod tests {
         );
     }
 
-    /// Every crack of the mask is on exactly one border, each border is closed, and the
-    /// traced bit is set on every vertical crack.
+    /// Every crack of the mask is on exactly one border, and each border is closed.
     #[test]
     fn every_crack_is_traced_once() {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         for _ in 0..50 {
             let bitmap = random_mask(&mut rng, 40, 30, 0.5, 1);
-            let mut mask = PaddedMask::new(&bitmap).unwrap();
+            let mask = PaddedMask::new(&bitmap).unwrap();
             let found = mask.borders();
             let mut seen = std::collections::HashSet::new();
             for b in &found {
@@ -796,9 +809,6 @@ mod tests {
                     let fg = |x: i64, y: i64| mask.is_foreground((x, y));
                     all += usize::from(fg(x, y) != fg(x + 1, y));
                     all += usize::from(fg(x, y) != fg(x, y + 1));
-                    if x > 0 && fg(x, y) != fg(x - 1, y) {
-                        assert!(mask.traced.get((y * w + x) as usize));
-                    }
                 }
             }
             assert_eq!(seen.len(), all);
@@ -811,7 +821,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(6);
         for _ in 0..20 {
             let bitmap = random_mask(&mut rng, 40, 30, 0.5, 1);
-            let mut mask = PaddedMask::new(&bitmap).unwrap();
+            let mask = PaddedMask::new(&bitmap).unwrap();
             for b in mask.borders() {
                 let kept = CrackLoop::new(&b.cracks);
                 assert_eq!(kept.len(), b.cracks.len());

@@ -11,7 +11,9 @@
 //!    or hole) and parent in the same order as their algorithm, without its label per
 //!    pixel. Before that, ambiguous diagonal pixel pairs are decided by the colour in the
 //!    minority around them (`resolve_diagonals`, potrace's "minority" turn policy), so
-//!    that a light line thinner than a pixel is not cut into one-pixel holes.
+//!    that a light line thinner than a pixel is not cut into one-pixel holes. On a large
+//!    image the borders are refined (steps 2 and 3) on the thread pool as the scan finds
+//!    them, in batches, while it goes on looking for more.
 //! 2. **Crack loops.** Each border is a closed loop of pixel edges ("cracks") that
 //!    separate its foreground component from the adjacent background component, kept
 //!    with the foreground on the right. On screen (y down) outer loops then run
@@ -126,7 +128,7 @@ use bilevel::{follows_cracks, smoothed_cracks};
 use grey::{
     edge_spread, outline_noise, EdgeEstimator, Window, NOISE_LIMIT, SOFT_SHARE, SOFT_SPREAD,
 };
-use mask::{CrackLoop, FoundBorder, PaddedMask};
+use mask::{Crack, CrackLoop, PaddedMask};
 use serde::Serialize;
 use spikes::extend_spikes;
 use workspace::Workspace;
@@ -369,6 +371,62 @@ impl Extraction {
 /// are refined in parallel (a small image would spend more on starting the thread pool).
 const PARALLEL_CRACKS: usize = 20_000;
 
+/// Fewest pixels of an image whose borders are refined while the raster scan still looks
+/// for more ([`refine_while_scanning`]).
+const PIPELINE_PIXELS: usize = 1 << 22;
+
+/// Cracks per task of [`refine_while_scanning`]: enough that a task costs far more than
+/// handing it to the thread pool.
+const BATCH_CRACKS: usize = 8_192;
+
+/// Scans the mask for its borders and refines them on the thread pool as they are found,
+/// in batches of consecutive borders, so that the scan (one thread, about 30 ms on a
+/// 600 dpi page) no longer runs while the other threads wait. Returns each border's
+/// result in border order, and the parents from the scan.
+fn refine_while_scanning<R, F>(mask: &PaddedMask, trace_one: &F) -> (Vec<R>, Vec<Option<usize>>)
+where
+    R: Send,
+    F: Fn(&mut Workspace, Vec<Crack>, bool) -> R + Sync,
+{
+    let done: std::sync::Mutex<Vec<(usize, Vec<R>)>> = std::sync::Mutex::new(Vec::new());
+    let parents = rayon::scope(|scope| {
+        let done = &done;
+        let mut batch: Vec<(Vec<Crack>, bool)> = Vec::new();
+        let (mut first, mut next, mut cracks) = (0, 0, 0);
+        let send = |batch: Vec<(Vec<Crack>, bool)>, first: usize| {
+            scope.spawn(move |_| {
+                let mut work = Workspace::default();
+                let out: Vec<R> = batch
+                    .into_iter()
+                    .map(|(c, is_hole)| trace_one(&mut work, c, is_hole))
+                    .collect();
+                done.lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .push((first, out));
+            });
+        };
+        let parents = mask.scan_borders(|c, is_hole| {
+            cracks += c.len();
+            batch.push((c, is_hole));
+            next += 1;
+            if cracks >= BATCH_CRACKS {
+                send(std::mem::take(&mut batch), first);
+                (first, cracks) = (next, 0);
+            }
+        });
+        if !batch.is_empty() {
+            send(batch, first);
+        }
+        parents
+    });
+    let mut done = done
+        .into_inner()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    done.sort_unstable_by_key(|&(first, _)| first);
+    let results = done.into_iter().flat_map(|(_, out)| out).collect();
+    (results, parents)
+}
+
 /// [`extract_contours`] keeping the borders.
 pub(crate) fn extract_borders(bitmap: &Bitmap, opts: &ContourOptions) -> Result<Extraction> {
     extract_with(bitmap, opts, EdgeEstimator::CoverageIntegral)
@@ -379,6 +437,18 @@ fn extract_with(
     opts: &ContourOptions,
     estimator: EdgeEstimator,
 ) -> Result<Extraction> {
+    let pixels = bitmap.width() as usize * bitmap.height() as usize;
+    extract_scheduled(bitmap, opts, estimator, pixels >= PIPELINE_PIXELS)
+}
+
+/// [`extract_with`], refining the borders while the scan looks for more when `pipelined`
+/// (same results either way).
+fn extract_scheduled(
+    bitmap: &Bitmap,
+    opts: &ContourOptions,
+    estimator: EdgeEstimator,
+    pipelined: bool,
+) -> Result<Extraction> {
     if !(opts.min_area.is_finite() && opts.min_area >= 0.0) {
         return Err(Error::InvalidOption {
             name: "min_area",
@@ -386,7 +456,7 @@ fn extract_with(
         });
     }
     let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
-    let mut mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
+    let mask = PaddedMask::new(bitmap).ok_or_else(|| Error::InvalidOption {
         name: "bitmap",
         message: format!(
             "{w}×{h} is too wide or tall to trace (limit {} px)",
@@ -402,11 +472,8 @@ fn extract_with(
     if w == 0 || h == 0 {
         return Ok(empty(mask));
     }
-    let found = mask.borders();
-    mask.forget_traced();
-
-    let trace_one = |work: &mut Workspace, border: FoundBorder| -> (Option<Contour>, Border) {
-        let (cracks, is_hole) = (border.cracks, border.is_hole);
+    // A border's contour and kept border, without their parent (set once the scan ends).
+    let trace_one = |work: &mut Workspace, cracks: Vec<Crack>, is_hole: bool| {
         let contour = if cracks.is_empty() {
             None
         } else {
@@ -449,40 +516,49 @@ fn extract_with(
             };
             let mut points = points;
             extend_spikes(&mut points, bitmap);
-            finish(
-                points,
-                is_hole,
-                border.parent,
-                opts.min_area,
-                spread.flatten(),
-            )
+            finish(points, is_hole, None, opts.min_area, spread.flatten())
         };
         let border = Border {
             cracks: CrackLoop::new(&cracks),
             is_hole,
-            parent: border.parent,
+            parent: None,
         };
         (contour, border)
     };
-    // Borders are refined independently: on a large image with many of them (a page of
-    // text), in parallel, results in border order.
-    let cracks: usize = found.iter().map(|b| b.cracks.len()).sum();
-    let largest = found.iter().map(|b| b.cracks.len()).max().unwrap_or(0);
-    let results: Vec<(Option<Contour>, Border)> = if cracks - largest >= PARALLEL_CRACKS {
-        use rayon::prelude::*;
-        found
-            .into_par_iter()
-            .map_init(Workspace::default, trace_one)
-            .collect()
+    // Borders are refined independently, so on a large image with many of them (a page
+    // of text) in parallel, results in border order.
+    let (results, parents) = if pipelined {
+        refine_while_scanning(&mask, &trace_one)
     } else {
-        let mut work = Workspace::default();
-        found
-            .into_iter()
-            .map(|border| trace_one(&mut work, border))
-            .collect()
+        let found = mask.borders();
+        let parents: Vec<Option<usize>> = found.iter().map(|b| b.parent).collect();
+        let cracks: usize = found.iter().map(|b| b.cracks.len()).sum();
+        let largest = found.iter().map(|b| b.cracks.len()).max().unwrap_or(0);
+        let results: Vec<(Option<Contour>, Border)> = if cracks - largest >= PARALLEL_CRACKS {
+            use rayon::prelude::*;
+            found
+                .into_par_iter()
+                .map_init(Workspace::default, |work, b| {
+                    trace_one(work, b.cracks, b.is_hole)
+                })
+                .collect()
+        } else {
+            let mut work = Workspace::default();
+            found
+                .into_iter()
+                .map(|b| trace_one(&mut work, b.cracks, b.is_hole))
+                .collect()
+        };
+        (results, parents)
     };
-    let (traced, borders): (Vec<Option<Contour>>, Vec<Border>) = results.into_iter().unzip();
-    let parents = borders.iter().map(|b| b.parent).collect();
+    let (mut traced, mut borders): (Vec<Option<Contour>>, Vec<Border>) =
+        results.into_iter().unzip();
+    for ((contour, border), &parent) in traced.iter_mut().zip(&mut borders).zip(&parents) {
+        border.parent = parent;
+        if let Some(contour) = contour {
+            contour.parent = parent;
+        }
+    }
     let (contours, border_of) = renumber(traced, parents);
     Ok(Extraction {
         contours,

@@ -686,3 +686,47 @@ fn side_distance(p: Point, corners: &[Point; 4]) -> f64 {
         })
         .fold(f64::INFINITY, f64::min)
 }
+
+/// Refining the borders while the scan still looks for more (as a large image is) gives
+/// the same contours, borders and parents as scanning first: a page of rings and discs,
+/// nested three deep, anti-aliased and large enough for many batches of borders.
+#[test]
+fn refining_while_scanning_gives_the_same_contours() {
+    let (w, h) = (1200u32, 700u32);
+    let cov = supersample(w, h, 2, |x, y| {
+        // Cells of 40 px: a ring with an island, or a disc, by the cell's parity.
+        let (cx, cy) = ((x / 40.0).floor(), (y / 40.0).floor());
+        let centre = Point::new(cx * 40.0 + 20.3, cy * 40.0 + 19.8);
+        let d = Point::new(x, y).distance(centre);
+        if (cx + cy) as i64 % 2 == 0 {
+            (9.0..17.0).contains(&d) || d < 4.5
+        } else {
+            d < 12.5 + 0.1 * cx
+        }
+    });
+    let bm = Bitmap::from_coverage(w, h, cov, None).unwrap();
+    let estimator = EdgeEstimator::CoverageIntegral;
+    let plain = extract_scheduled(&bm, &opts(2.0), estimator, false).unwrap();
+    let piped = extract_scheduled(&bm, &opts(2.0), estimator, true).unwrap();
+    assert!(plain.contours.len() > 1000, "{}", plain.contours.len());
+    assert_eq!(plain.contours.len(), piped.contours.len());
+    for (a, b) in plain.contours.iter().zip(&piped.contours) {
+        assert_eq!((a.is_hole, a.parent), (b.is_hole, b.parent));
+        assert_eq!(a.points, b.points);
+        assert_eq!(a.edge_spread, b.edge_spread);
+    }
+    assert_eq!(plain.border_of, piped.border_of);
+    assert_eq!(plain.borders.len(), piped.borders.len());
+    for (a, b) in plain.borders.iter().zip(&piped.borders) {
+        assert_eq!((a.is_hole, a.parent), (b.is_hole, b.parent));
+        assert_eq!(a.cracks.to_vec(), b.cracks.to_vec());
+    }
+    // Islands sit in holes, which sit in rings.
+    let island = plain
+        .contours
+        .iter()
+        .find(|c| !c.is_hole && c.parent.is_some())
+        .unwrap();
+    let hole = &plain.contours[island.parent.unwrap()];
+    assert!(hole.is_hole && hole.parent.is_some());
+}
