@@ -45,6 +45,10 @@ use svg::Node as _;
 /// Width of the line of `stroke_only` outlines, in pixels.
 pub(crate) const STROKE_WIDTH: f64 = 1.0;
 
+/// Fewest segments for which [`to_svg`] writes the shapes' path data on the thread pool
+/// (a page of text has tens of thousands; a glyph a few dozen).
+const PARALLEL_SEGMENTS: usize = 4_000;
+
 /// Writes the traced outline as an SVG document (see the module docs for the layout).
 /// Deterministic: the same result and options give the same bytes.
 pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
@@ -71,22 +75,36 @@ pub fn to_svg(result: &TraceResult, opts: &ExportOptions) -> String {
             .set("fill", fill.as_str())
             .set("fill-rule", "evenodd")
     };
-    for (i, c) in contours.iter().enumerate() {
-        if c.is_hole {
-            continue;
-        }
+    // Each shape's path data (an outer border and its holes), with the contours it left
+    // out; on a page, written on the thread pool and put back in order.
+    let shape = |&i: &usize| -> (String, Vec<usize>) {
         let mut data = String::new();
+        let mut skipped = Vec::new();
         for k in std::iter::once(i).chain(holes_of[i].iter().copied()) {
             let merged = result.merged_of(k);
             match contour_path_data(&contours[k], merged, bound, precision, PathUnits::Grid) {
                 ContourPath::Data(d) => data.push_str(&d),
                 ContourPath::Empty => {}
-                ContourPath::NonFinite => {
-                    group.append(comment(&format!(
-                        "contour {k} skipped: non-finite coordinates"
-                    )));
-                }
+                ContourPath::NonFinite => skipped.push(k),
             }
+        }
+        (data, skipped)
+    };
+    let outers: Vec<usize> = (0..contours.len())
+        .filter(|&i| !contours[i].is_hole)
+        .collect();
+    let segments: usize = contours.iter().map(|c| c.segments.len()).sum();
+    let shapes: Vec<(String, Vec<usize>)> = if segments >= PARALLEL_SEGMENTS {
+        use rayon::prelude::*;
+        outers.par_iter().map(shape).collect()
+    } else {
+        outers.iter().map(shape).collect()
+    };
+    for (data, skipped) in shapes {
+        for k in skipped {
+            group.append(comment(&format!(
+                "contour {k} skipped: non-finite coordinates"
+            )));
         }
         if !data.is_empty() {
             group.append(Path::new().set("d", data));
@@ -423,6 +441,51 @@ pub(crate) mod tests {
         assert_eq!(svg.matches("fill-rule=\"evenodd\"").count(), 1);
         assert_eq!(svg.matches("fill=").count(), 1);
         assert!(!svg.contains("<!--"));
+    }
+
+    /// A page of shapes, enough segments for the path data to be written on the thread
+    /// pool, gives each shape's path (its outer border, then its holes) in contour order,
+    /// exactly as the shape's own contours are written one by one.
+    #[test]
+    fn a_page_of_shapes_is_written_in_order() {
+        let mut contours = Vec::new();
+        for k in 0..800 {
+            let centre = Point::new(20.0 + (k % 40) as f64 * 40.0, 20.0 + (k / 40) as f64 * 40.0);
+            let outer = contours.len();
+            contours.push(circle(centre, 15.0 + (k % 7) as f64, false, None));
+            if k % 3 == 0 {
+                contours.push(circle(centre, 6.0, true, Some(outer)));
+            }
+        }
+        let segments: usize = contours.iter().map(|c| c.segments.len()).sum();
+        assert!(segments >= PARALLEL_SEGMENTS, "{segments}");
+        let r = result(1600, 800, contours);
+        let opts = ExportOptions::default();
+        let data = path_data(&to_svg(&r, &opts));
+        let (bound, precision) = (opts.effective_bound(), opts.effective_precision());
+        let one = |k: usize| match contour_path_data(
+            &r.contours[k],
+            &[],
+            bound,
+            precision,
+            PathUnits::Grid,
+        ) {
+            ContourPath::Data(d) => d,
+            _ => unreachable!(),
+        };
+        let mut expected = Vec::new();
+        for (i, c) in r.contours.iter().enumerate() {
+            if c.is_hole {
+                continue;
+            }
+            let mut d = one(i);
+            if r.contours.get(i + 1).is_some_and(|h| h.parent == Some(i)) {
+                d.push_str(&one(i + 1));
+            }
+            expected.push(d);
+        }
+        assert_eq!(data.len(), 800);
+        assert_eq!(data, expected);
     }
 
     #[test]
