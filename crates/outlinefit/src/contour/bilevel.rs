@@ -91,27 +91,49 @@ pub(super) fn follows_cracks(points: &[Point], cracks: &[Crack]) -> bool {
     if (signed_area(points).abs() - signed_area(&mids).abs()).abs() > 0.35 * length {
         return false;
     }
-    // The midpoints sorted by their cell of a 2 px grid (row, then column): the nine
-    // cells around a point are three runs of that order, found by binary search.
+    // The outline runs along its cracks, so a point is mostly within reach of the
+    // midpoint that the previous point was near, or of one a few cracks on: those are
+    // tried first. Otherwise the midpoints sorted by their cell of a 2 px grid (row, then
+    // column), made once when first needed, give the nine cells around the point as
+    // three runs of that order, found by binary search.
     let cell = |p: Point| (floor_i64(p.y / 2.0), floor_i64(p.x / 2.0));
-    let mut sorted: Vec<((i64, i64), Point)> = mids.iter().map(|&m| (cell(m), m)).collect();
-    sorted.sort_unstable_by_key(|e| e.0);
+    let mut sorted: Vec<((i64, i64), usize)> = Vec::new();
+    let mut near = 0;
     points.iter().all(|&p| {
+        let mut ahead = (0..WALK_CRACKS).map(|k| (near + k) % mids.len());
+        if let Some(k) = ahead.find(|&k| mids[k].distance(p) <= CRACK_FIDELITY) {
+            near = k;
+            return true;
+        }
+        if sorted.is_empty() {
+            sorted = mids
+                .iter()
+                .enumerate()
+                .map(|(k, &m)| (cell(m), k))
+                .collect();
+            sorted.sort_unstable();
+        }
         let (cy, cx) = cell(p);
-        let mut best = f64::INFINITY;
         for dy in -1..=1 {
             let row = cy + dy;
             let from = sorted.partition_point(|e| e.0 < (row, cx - 1));
-            for &(key, m) in &sorted[from..] {
+            for &(key, k) in &sorted[from..] {
                 if key > (row, cx + 1) {
                     break;
                 }
-                best = best.min(m.distance(p));
+                if mids[k].distance(p) <= CRACK_FIDELITY {
+                    near = k;
+                    return true;
+                }
             }
         }
-        best <= CRACK_FIDELITY
+        false
     })
 }
+
+/// Midpoints along the loop (from the one the previous point was near) that
+/// [`follows_cracks`] tries before searching them all.
+const WALK_CRACKS: usize = 6;
 
 /// Pixel-edge midpoints smoothed by three passes of the closed [1, 2, 1]/4 filter: a robust
 /// bilevel outline (corners slightly rounded, later sharpened by the break finder where
