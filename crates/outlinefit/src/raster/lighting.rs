@@ -120,9 +120,29 @@ impl PaperMap {
                             // The samples of this block: the multiples of `step` in it.
                             let end = ((bx + 1) * block).min(width);
                             let start = ((bx * block).div_ceil(step) * step).min(end);
-                            for &level in line[start..end].iter().step_by(step) {
-                                h[usize::from(bins[usize::from(level)])] += 1;
+                            // Counted by runs of one level: paper is mostly one level,
+                            // and adding one to the same bin again and again waits for
+                            // each addition to land before the next. A stretch of one
+                            // level (every sample, on a small image) is counted at once.
+                            let Some(&first) = line[start..end].first() else {
+                                continue;
+                            };
+                            if step == 1 && line[start..end].iter().all(|&l| l == first) {
+                                h[usize::from(bins[usize::from(first)])] += (end - start) as u32;
+                                continue;
                             }
+                            let mut samples = line[start..end].iter().step_by(step);
+                            samples.next();
+                            let (mut level, mut run) = (first, 1);
+                            for &next in samples {
+                                if next == level {
+                                    run += 1;
+                                } else {
+                                    h[usize::from(bins[usize::from(level)])] += run;
+                                    (level, run) = (next, 1);
+                                }
+                            }
+                            h[usize::from(bins[usize::from(level)])] += run;
                         }
                     }
                     None => {
@@ -350,6 +370,30 @@ mod tests {
                 .iter()
                 .fold((1f32, 0f32), |(l, h), &p| (l.min(p), h.max(p)));
             assert!(hi - lo > 0.25, "{w} × {h}: paper from {lo} to {hi}");
+        }
+        // Clean paper with a bar of ink: blocks of one level, counted at once.
+        for (w, h) in [(64, 64), (333, 250)] {
+            let bytes: Vec<u8> = (0..w * h)
+                .map(|i| {
+                    if (i % w) / 7 == 3 && i / w > 5 {
+                        230
+                    } else {
+                        0
+                    }
+                })
+                .collect();
+            let value = |b: u8| f32::from(b) / 255.0;
+            let as_bytes = Levels::bytes(bytes.clone(), value);
+            let as_words = Levels::words(bytes.iter().map(|&b| u16::from(b)).collect(), |v| {
+                value(v as u8)
+            });
+            let (a, b) = (
+                PaperMap::new(&as_bytes, w, h),
+                PaperMap::new(&as_words, w, h),
+            );
+            assert_eq!(a.paper, b.paper, "{w} × {h}");
+            assert_eq!(a.ink, b.ink, "{w} × {h}");
+            assert!(a.ink.iter().any(|&i| i) && !a.ink.iter().all(|&i| i));
         }
     }
 
