@@ -129,7 +129,14 @@ pub(crate) fn check_and_repair(
     // The round under way is counted as it starts.
     progress.stage(Stage::Checking, CHECK_ROUNDS);
     progress.advance(1);
-    let mut findings = check(bitmap, contours, merged, limits, &excused);
+    let mut findings = check(
+        bitmap,
+        contours,
+        merged,
+        limits,
+        &excused,
+        Some(&extraction.borders),
+    );
     for _ in 0..MAX_ROUNDS {
         if findings.held() {
             break;

@@ -113,6 +113,16 @@ impl CrackLoop {
         })
     }
 
+    /// The vertex each crack leaves, in image coordinates (pixel corners), in order.
+    pub(super) fn vertices(&self) -> impl Iterator<Item = (i32, i32)> + '_ {
+        self.dirs.iter().scan((self.x - 1, self.y - 1), |at, &dir| {
+            let here = *at;
+            let (dx, dy) = DIRS[usize::from(dir)];
+            *at = (at.0 + dx as i32, at.1 + dy as i32);
+            Some(here)
+        })
+    }
+
     /// The cracks as a list.
     pub(super) fn to_vec(&self) -> Vec<Crack> {
         self.iter().collect()

@@ -240,6 +240,11 @@ pub(crate) enum PixelTrace {
 }
 
 impl Border {
+    /// The pixel corners the border passes, in walking order, in image coordinates.
+    pub(crate) fn corners(&self) -> impl Iterator<Item = (i32, i32)> + '_ {
+        self.cracks.vertices()
+    }
+
     /// The pixel-edge midpoints of the border, in walking order (foreground on the right).
     pub(crate) fn midpoints(&self) -> impl Iterator<Item = Point> + '_ {
         self.cracks.iter().map(|c| c.mid())

@@ -15,32 +15,102 @@ pub(super) struct Dirty {
     spans: Vec<Vec<(usize, usize)>>,
 }
 
-impl Dirty {
-    /// The tiles that meet any of `boxes` (`[x0, y0, x1, y1]`, px) widened by `margin`.
-    pub(super) fn new(width: usize, height: usize, boxes: &[[f64; 4]], margin: f64) -> Dirty {
+/// Tiles being marked, to become a [`Dirty`].
+pub(super) struct Marks {
+    width: usize,
+    height: usize,
+    cols: usize,
+    rows: usize,
+    marked: Vec<bool>,
+}
+
+impl Marks {
+    /// No tile of a `width` × `height` image marked.
+    pub(super) fn new(width: usize, height: usize) -> Marks {
         let (cols, rows) = (width.div_ceil(TILE), height.div_ceil(TILE));
-        let mut marked = vec![false; cols * rows];
+        Marks {
+            width,
+            height,
+            cols,
+            rows,
+            marked: vec![false; cols * rows],
+        }
+    }
+
+    /// Marks the tiles that meet the box from (`x0`, `y0`) to (`x1`, `y1`) (px) widened
+    /// by `margin`.
+    #[inline]
+    pub(super) fn mark(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, margin: f64) {
+        if !(x0 - margin < self.width as f64 && y0 - margin < self.height as f64)
+            || x1 + margin < 0.0
+            || y1 + margin < 0.0
+        {
+            return;
+        }
         let tile = |v: f64, count: usize| {
             ((v / TILE as f64).floor().max(0.0) as usize).min(count.saturating_sub(1))
         };
-        for b in boxes {
-            if !(b[0] - margin < width as f64 && b[1] - margin < height as f64)
-                || b[2] + margin < 0.0
-                || b[3] + margin < 0.0
-            {
-                continue;
-            }
-            let (c0, c1) = (tile(b[0] - margin, cols), tile(b[2] + margin, cols));
-            let (r0, r1) = (tile(b[1] - margin, rows), tile(b[3] + margin, rows));
+        let (c0, c1) = (tile(x0 - margin, self.cols), tile(x1 + margin, self.cols));
+        let (r0, r1) = (tile(y0 - margin, self.rows), tile(y1 + margin, self.rows));
+        for r in r0..=r1 {
+            self.marked[r * self.cols + c0..=r * self.cols + c1].fill(true);
+        }
+    }
+
+    /// Marks the tiles that meet the pixels within `margin` (whole pixels) of pixel
+    /// corner or pixel (`x`, `y`), unless they are `last`'s; returns them, for the next
+    /// call's `last` (a walk along an outline stays in the same tiles for a while).
+    #[inline]
+    pub(super) fn mark_near(
+        &mut self,
+        x: i64,
+        y: i64,
+        margin: i64,
+        last: [usize; 4],
+    ) -> [usize; 4] {
+        let tile = |v: i64, count: usize| ((v.max(0) as usize) / TILE).min(count.saturating_sub(1));
+        let range = [
+            tile(x - margin, self.cols),
+            tile(x + margin, self.cols),
+            tile(y - margin, self.rows),
+            tile(y + margin, self.rows),
+        ];
+        if range != last {
+            let [c0, c1, r0, r1] = range;
             for r in r0..=r1 {
-                marked[r * cols + c0..=r * cols + c1].fill(true);
+                self.marked[r * self.cols + c0..=r * self.cols + c1].fill(true);
             }
         }
-        let spans = (0..rows)
+        range
+    }
+
+    /// Marks every tile that `other` (of the same image) marks.
+    pub(super) fn add(&mut self, other: &Marks) {
+        for (m, &o) in self.marked.iter_mut().zip(&other.marked) {
+            *m |= o;
+        }
+    }
+
+    /// Marks the tiles along the image's four sides.
+    pub(super) fn sides(&mut self) {
+        let (cols, rows) = (self.cols, self.rows);
+        for r in 0..rows {
+            for c in 0..cols {
+                if r == 0 || c == 0 || r + 1 == rows || c + 1 == cols {
+                    self.marked[r * cols + c] = true;
+                }
+            }
+        }
+    }
+
+    /// The marked tiles.
+    pub(super) fn into_dirty(self) -> Dirty {
+        let (cols, marked) = (self.cols, &self.marked);
+        let spans = (0..self.rows)
             .map(|r| {
                 let mut out: Vec<(usize, usize)> = Vec::new();
                 for c in (0..cols).filter(|&c| marked[r * cols + c]) {
-                    let (from, to) = (c * TILE, ((c + 1) * TILE).min(width));
+                    let (from, to) = (c * TILE, ((c + 1) * TILE).min(self.width));
                     match out.last_mut() {
                         Some(last) if last.1 == from => last.1 = to,
                         _ => out.push((from, to)),
@@ -50,10 +120,36 @@ impl Dirty {
             })
             .collect();
         Dirty {
-            width,
-            height,
+            width: self.width,
+            height: self.height,
             spans,
         }
+    }
+}
+
+impl Dirty {
+    /// The tiles that meet any of `boxes` (`[x0, y0, x1, y1]`, px) widened by `margin`.
+    pub(super) fn new(width: usize, height: usize, boxes: &[[f64; 4]], margin: f64) -> Dirty {
+        let mut marks = Marks::new(width, height);
+        for b in boxes {
+            marks.mark(b[0], b[1], b[2], b[3], margin);
+        }
+        marks.into_dirty()
+    }
+
+    /// True when pixel (`col`, `row`) lies in a marked tile and one of its 8 neighbours
+    /// in the image does not: on the edge of the marked area.
+    pub(super) fn on_edge(&self, col: usize, row: usize) -> bool {
+        let inner = |v: usize| !v.is_multiple_of(TILE) && v % TILE != TILE - 1;
+        if inner(col) && inner(row) {
+            // Its neighbours lie in its own tile.
+            return false;
+        }
+        self.contains(col, row)
+            && (row.saturating_sub(1)..=(row + 1).min(self.height - 1)).any(|r| {
+                (col.saturating_sub(1)..=(col + 1).min(self.width - 1))
+                    .any(|c| !self.contains(c, r))
+            })
     }
 
     /// Every tile of the image.

@@ -32,16 +32,20 @@
 //!    stripes), and its group of such tiles is a region that fails the check.
 //!
 //! [`crate::trace_bitmap`] repairs what fails (see `repair`) and reports the final check
-//! in [`Fidelity`]. The first check compares every row of the image; a check after a
-//! repair round compares only the tiles around the contours it changed (`dirty`), with a
-//! grid of the edges near them (`grid`), and keeps the earlier findings everywhere else,
-//! which it would find again: on a scanned page a round costs what its few repaired
-//! contours cost.
+//! in [`Fidelity`]. The first check of a large image compares the tiles near a border
+//! of the mask or an edge of the drawing, where every disagreement starts, and every
+//! row only when a disagreement reaches the edge of those tiles (`band_tiles`; the
+//! 4096 px horse's outline passes through 6 % of its tiles, a page of text through a
+//! fifth); a check after a repair round compares only the tiles around the contours it
+//! changed (`dirty`), with a grid of the edges near them (`grid`), and keeps the earlier
+//! findings everywhere else, which it would find again: on a scanned page a round costs
+//! what its few repaired contours cost.
 
 mod dense;
 mod dirty;
 mod grid;
 
+use crate::contour::Border;
 use crate::curve::CubicBez;
 use crate::fit::FittedContour;
 use crate::geom::{distance_to_closed_polyline, groups_8, segment_distance, Point};
@@ -458,14 +462,18 @@ const CROSSING_BAND: usize = 64;
 
 /// `merged[i]` holds the merged curves drawn for `contours[i]` (missing or empty: its
 /// segments). Pixels in `excused` (specks dropped on purpose) never count as far.
+/// With the borders of the thresholded mask (`borders`), the pixels are compared only in
+/// the tiles near a border or a drawn edge, where every disagreement starts (see
+/// [`band_tiles`]); without them, on every row.
 pub(crate) fn check(
     bitmap: &Bitmap,
     contours: &[FittedContour],
     merged: &[Vec<MergedCurve>],
     limits: Limits,
     excused: &HashSet<u32>,
+    borders: Option<&[Border]>,
 ) -> Findings {
-    check_again(bitmap, contours, merged, limits, excused, None)
+    compare_drawing(bitmap, contours, merged, limits, excused, None, borders)
 }
 
 /// [`check`], given the findings of an earlier check of the same contours with
@@ -480,6 +488,19 @@ pub(crate) fn check_again(
     limits: Limits,
     excused: &HashSet<u32>,
     earlier: Option<(&Findings, &[bool])>,
+) -> Findings {
+    compare_drawing(bitmap, contours, merged, limits, excused, earlier, None)
+}
+
+/// [`check`] and [`check_again`].
+fn compare_drawing(
+    bitmap: &Bitmap,
+    contours: &[FittedContour],
+    merged: &[Vec<MergedCurve>],
+    limits: Limits,
+    excused: &HashSet<u32>,
+    earlier: Option<(&Findings, &[bool])>,
+    borders: Option<&[Border]>,
 ) -> Findings {
     let (polylines, segment_of): (Vec<Vec<Vertex>>, Vec<SegmentRuns>) =
         flatten(contours, merged, limits.bound).into_iter().unzip();
@@ -585,14 +606,16 @@ pub(crate) fn check_again(
     let (worst, bad_points) = per_contour.into_iter().unzip();
 
     // 2. Disagreement between the drawn shape and the thresholded input, on the rows
-    // and columns to look at.
-    let everywhere;
-    let look = match &dirty {
-        Some(d) => d,
-        None => {
-            everywhere = Dirty::all(w, h);
-            &everywhere
+    // and columns to look at: after a repair, the tiles it changed; in a first check
+    // given the borders, the tiles near a border or a drawn edge (`band`), unless a
+    // disagreement reaches the band's edge, when every tile is looked at.
+    let everywhere = std::sync::OnceLock::new();
+    let everywhere = || everywhere.get_or_init(|| Dirty::all(w, h));
+    let band = match (&dirty, borders) {
+        (None, Some(borders)) if w * h >= BAND_PIXELS => {
+            Some(band_tiles(w, h, borders, &polylines, far_limit, parallel))
         }
+        _ => None,
     };
     // A closed path whose box misses the tiles looked at crosses each of their rows
     // left of a pixel an even number of times, or not at all: it cannot change a
@@ -604,7 +627,6 @@ pub(crate) fn check_again(
     let lines: Vec<usize> = (0..polylines.len())
         .filter(|&i| polylines[i].len() >= 2 && crosses(i))
         .collect();
-    let mut crossings = row_crossings(&polylines, &boxes, &lines, look, h, parallel);
     let threshold = bitmap.threshold();
     // On grey levels, a pixel near the threshold is undecided (an anti-aliased edge
     // pixel); only decided ones count towards dense disagreement. Each pixel is read as
@@ -615,88 +637,113 @@ pub(crate) fn check_again(
         let decided = bitmap.is_bilevel() || (f64::from(v) - threshold).abs() >= UNDECIDED;
         (u8::from(f64::from(v) >= threshold) * FOREGROUND) | (u8::from(decided) * DECIDED)
     });
-    // The far pixels of one row's spans, and its near disagreeing ones, given its
-    // crossings (sorted here) and a buffer for its pixels' classes.
-    let far_in_row =
-        |row: usize, xs: &mut [f64], class: &mut [u8], out: &mut (Vec<u32>, Vec<u32>)| {
-            let spans = look.spans(row);
-            if spans.is_empty() {
-                return;
-            }
-            xs.sort_by(f64::total_cmp);
-            let (mut next, mut inside) = (0, false);
-            for &(from, to) in spans {
-                bitmap.read_row_classes(row, from, &classes, &mut class[from..to]);
-                let mut col = from;
-                while col < to {
-                    // Crossings at or before this pixel's centre.
-                    while next < xs.len() && xs[next] <= col as f64 + 0.5 {
-                        inside = !inside;
-                        next += 1;
-                    }
-                    // The run of pixels up to the next crossing, all on one side of the
-                    // drawn outline: most runs agree with the mask everywhere, which a
-                    // vectorised count tells before any pixel is looked at alone.
-                    let end = match xs.get(next) {
-                        Some(&x) => run_end(col, x, w).min(to),
-                        None => to,
-                    };
-                    let run = &class[col..end];
-                    let side = u8::from(inside);
-                    let disagree = |c: u8| c & FOREGROUND != side;
-                    if run.iter().filter(|&&c| disagree(c)).count() > 0 {
-                        // The drawn outline crosses this row's centre line at the run's
-                        // two crossings: a pixel within the far limit of either along the
-                        // row is near the outline without asking the grid.
-                        let before = next.checked_sub(1).map(|i| xs[i]);
-                        let after = xs.get(next).copied();
-                        let reach = far_limit - CROSSING_MARGIN;
-                        for (k, &c) in run.iter().enumerate().filter(|&(_, &c)| disagree(c)) {
-                            let index = (row * w + col + k) as u32;
-                            if !excused.contains(&index) {
-                                let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
-                                let on_row = before.is_some_and(|x| centre.x - x < reach)
-                                    || after.is_some_and(|x| x - centre.x < reach);
-                                if !on_row && !grid.any_within(centre, far_limit) {
-                                    out.0.push(index);
-                                } else if c & DECIDED != 0 {
-                                    out.1.push(index);
-                                }
+    // Set when a disagreeing pixel lies on the edge of the band looked at.
+    let overflow = std::sync::atomic::AtomicBool::new(false);
+    // The far pixels of one row's spans of `look`, and its near disagreeing ones, given
+    // its crossings (sorted here) and a buffer for its pixels' classes.
+    let far_in_row = |look: &Dirty,
+                      row: usize,
+                      xs: &mut [f64],
+                      class: &mut [u8],
+                      out: &mut (Vec<u32>, Vec<u32>)| {
+        let spans = look.spans(row);
+        if spans.is_empty() {
+            return;
+        }
+        let banded = band.as_ref().is_some_and(|b| std::ptr::eq(b, look));
+        xs.sort_by(f64::total_cmp);
+        let (mut next, mut inside) = (0, false);
+        for &(from, to) in spans {
+            bitmap.read_row_classes(row, from, &classes, &mut class[from..to]);
+            let mut col = from;
+            while col < to {
+                // Crossings at or before this pixel's centre.
+                while next < xs.len() && xs[next] <= col as f64 + 0.5 {
+                    inside = !inside;
+                    next += 1;
+                }
+                // The run of pixels up to the next crossing, all on one side of the
+                // drawn outline: most runs agree with the mask everywhere, which a
+                // vectorised count tells before any pixel is looked at alone.
+                let end = match xs.get(next) {
+                    Some(&x) => run_end(col, x, w).min(to),
+                    None => to,
+                };
+                let run = &class[col..end];
+                let side = u8::from(inside);
+                let disagree = |c: u8| c & FOREGROUND != side;
+                if run.iter().filter(|&&c| disagree(c)).count() > 0 {
+                    // The drawn outline crosses this row's centre line at the run's
+                    // two crossings: a pixel within the far limit of either along the
+                    // row is near the outline without asking the grid.
+                    let before = next.checked_sub(1).map(|i| xs[i]);
+                    let after = xs.get(next).copied();
+                    let reach = far_limit - CROSSING_MARGIN;
+                    for (k, &c) in run.iter().enumerate().filter(|&(_, &c)| disagree(c)) {
+                        if banded && look.on_edge(col + k, row) {
+                            overflow.store(true, std::sync::atomic::Ordering::Relaxed);
+                        }
+                        let index = (row * w + col + k) as u32;
+                        if !excused.contains(&index) {
+                            let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
+                            let on_row = before.is_some_and(|x| centre.x - x < reach)
+                                || after.is_some_and(|x| x - centre.x < reach);
+                            if !on_row && !grid.any_within(centre, far_limit) {
+                                out.0.push(index);
+                            } else if c & DECIDED != 0 {
+                                out.1.push(index);
                             }
                         }
                     }
-                    col = end;
                 }
+                col = end;
             }
-        };
-    let (mut far_pixels, mut near_pixels): (Vec<u32>, Vec<u32>) = if parallel {
-        let rows: Vec<(Vec<u32>, Vec<u32>)> = crossings
-            .par_iter_mut()
-            .enumerate()
-            .map_init(
-                || vec![0u8; w],
-                |class, (row, xs)| {
-                    let mut out = (Vec::new(), Vec::new());
-                    far_in_row(row, xs, class, &mut out);
-                    out
-                },
-            )
-            .collect();
-        let mut all = (Vec::new(), Vec::new());
-        for (f, n) in rows {
-            all.0.extend(f);
-            all.1.extend(n);
         }
-        all
-    } else {
-        let mut class = vec![0u8; w];
-        let mut out = (Vec::new(), Vec::new());
-        for (row, xs) in crossings.iter_mut().enumerate() {
-            far_in_row(row, xs, &mut class, &mut out);
-        }
-        out
     };
-    drop(crossings);
+    // Every row's far and near disagreeing pixels within the tiles of `look`.
+    let compare = |look: &Dirty| -> (Vec<u32>, Vec<u32>) {
+        let mut crossings = row_crossings(&polylines, &boxes, &lines, look, h, parallel);
+        if parallel {
+            let rows: Vec<(Vec<u32>, Vec<u32>)> = crossings
+                .par_iter_mut()
+                .enumerate()
+                .map_init(
+                    || vec![0u8; w],
+                    |class, (row, xs)| {
+                        let mut out = (Vec::new(), Vec::new());
+                        far_in_row(look, row, xs, class, &mut out);
+                        out
+                    },
+                )
+                .collect();
+            let mut all = (Vec::new(), Vec::new());
+            for (f, n) in rows {
+                all.0.extend(f);
+                all.1.extend(n);
+            }
+            all
+        } else {
+            let mut class = vec![0u8; w];
+            let mut out = (Vec::new(), Vec::new());
+            for (row, xs) in crossings.iter_mut().enumerate() {
+                far_in_row(look, row, xs, &mut class, &mut out);
+            }
+            out
+        }
+    };
+    let (mut far_pixels, mut near_pixels) = match (&dirty, &band) {
+        (Some(d), _) => compare(d),
+        (None, Some(b)) => {
+            let found = compare(b);
+            // A disagreement on the band's edge may go on outside it: look everywhere.
+            if overflow.load(std::sync::atomic::Ordering::Relaxed) {
+                compare(everywhere())
+            } else {
+                found
+            }
+        }
+        (None, None) => compare(everywhere()),
+    };
     // Outside the tiles looked at, the earlier findings stand.
     if let (Some(d), Some((findings, _))) = (&dirty, earlier) {
         let kept = |p: &&u32| !d.contains(**p as usize % w, **p as usize / w);
@@ -812,6 +859,82 @@ fn vertex_box(line: &[Vertex]) -> Option<[f64; 4]> {
             }),
     )
 }
+
+/// The tiles a first check compares (see [`Dirty`]): those within a margin of a crack of
+/// the mask's `borders` or of an edge of the drawn `polylines`, and those along the
+/// image's sides. Every region of disagreement between the drawn shape and the mask is
+/// bounded by pixels next to a crack (where the mask changes) or to a drawn edge (where
+/// the drawing does), or by the image's sides: within the margin, so in these tiles. A
+/// region that also reaches outside them has a pixel on their edge, where the check
+/// notices it and compares every tile instead. The margin also covers the far limit, so
+/// that the near disagreement of a loose tolerance lies inside.
+fn band_tiles(
+    w: usize,
+    h: usize,
+    borders: &[Border],
+    polylines: &[Vec<Vertex>],
+    far_limit: f64,
+    parallel: bool,
+) -> Dirty {
+    // Whole pixels: a corner or a vertex rounded down is within a pixel of the point.
+    let margin = (BAND_MARGIN + far_limit).ceil() as i64 + 1;
+    // The borders' corners and the drawn paths' vertices (no chord is longer than
+    // `FLATTEN_MAX_CHORD`, so its points lie within half that of a vertex), marked in
+    // parts on the thread pool and put together.
+    let chord = FLATTEN_MAX_CHORD.ceil() as i64;
+    let mark_borders = |marks: &mut dirty::Marks, part: &[Border]| {
+        for border in part {
+            let mut last = [usize::MAX; 4];
+            for (x, y) in border.corners() {
+                last = marks.mark_near(i64::from(x), i64::from(y), margin, last);
+            }
+        }
+    };
+    let mark_lines = |marks: &mut dirty::Marks, part: &[Vec<Vertex>]| {
+        for line in part {
+            let mut last = [usize::MAX; 4];
+            for v in line {
+                let p = v.point();
+                let (x, y) = (p.x.floor() as i64, p.y.floor() as i64);
+                last = marks.mark_near(x, y, margin + chord, last);
+            }
+        }
+    };
+    let parts = if parallel { BAND_PARTS } else { 1 };
+    let mark_part = |k: usize| {
+        let mut marks = dirty::Marks::new(w, h);
+        let share = |n: usize| k * n / parts..(k + 1) * n / parts;
+        mark_borders(&mut marks, &borders[share(borders.len())]);
+        mark_lines(&mut marks, &polylines[share(polylines.len())]);
+        marks
+    };
+    let mut marks = if parallel {
+        (0..parts)
+            .into_par_iter()
+            .map(mark_part)
+            .reduce_with(|mut a, b| {
+                a.add(&b);
+                a
+            })
+            .unwrap_or_else(|| dirty::Marks::new(w, h))
+    } else {
+        mark_part(0)
+    };
+    marks.sides();
+    marks.into_dirty()
+}
+
+/// Fewest pixels of an image whose first check compares only the tiles of
+/// [`band_tiles`]: on a small image, reading every row costs less than marking them.
+const BAND_PIXELS: usize = 1 << 20;
+
+/// Parts of the outlines that [`band_tiles`] marks in parallel.
+const BAND_PARTS: usize = 8;
+
+/// Margin (px) of [`band_tiles`] beyond the far limit: a crack's midpoint is half a
+/// pixel from the centres on either side, and a drawn edge between two pixel centres
+/// is within a pixel of both.
+const BAND_MARGIN: f64 = 2.0;
 
 /// The box of an edge.
 fn edge_box(e: &Edge) -> [f64; 4] {
@@ -1011,9 +1134,9 @@ mod tests {
             bound: config.lsq_options().export_bound,
         };
         let none = HashSet::new();
-        let own = check(&stripes, &traced.contours, &[], limits, &none);
+        let own = check(&stripes, &traced.contours, &[], limits, &none, None);
         assert!(own.regions.is_empty(), "{}", own.largest.0);
-        let wrong = check(&board, &traced.contours, &[], limits, &none);
+        let wrong = check(&board, &traced.contours, &[], limits, &none, None);
         assert!(!wrong.regions.is_empty());
         // Most of the board's wrong pixels, none of them far from an outline.
         assert!(
@@ -1107,7 +1230,7 @@ mod tests {
                 }
             }
         }
-        let found = check(&bitmap, &moved, &[], limits, &HashSet::new());
+        let found = check(&bitmap, &moved, &[], limits, &HashSet::new(), None);
         let (polylines, _): (Vec<Vec<Vertex>>, Vec<SegmentRuns>) =
             flatten(&moved, &[], limits.bound).into_iter().unzip();
         let nearest = |p: u32| {
@@ -1148,7 +1271,7 @@ mod tests {
         let (base, limits) = traced_unchecked(&bitmap);
         assert_eq!(base.len(), 3);
         let none = HashSet::new();
-        let first = check(&bitmap, &base, &[], limits, &none);
+        let first = check(&bitmap, &base, &[], limits, &none, None);
         assert!(first.held());
         let index_at = |x: f64| {
             (0..3)
@@ -1168,7 +1291,7 @@ mod tests {
             &none,
             Some((&first, &unchanged)),
         );
-        let full = check(&bitmap, &dropped, &[], limits, &none);
+        let full = check(&bitmap, &dropped, &[], limits, &none, None);
         assert!(!full.regions.is_empty());
         assert_eq!(summary(&again), summary(&full));
 
@@ -1187,7 +1310,7 @@ mod tests {
             &none,
             Some((&again, &unchanged)),
         );
-        let full = check(&bitmap, &moved, &[], limits, &none);
+        let full = check(&bitmap, &moved, &[], limits, &none, None);
         assert!(!full.bad_points[left].is_empty());
         assert!(full.regions.len() >= 2, "{}", full.regions.len());
         assert_eq!(summary(&again), summary(&full));
@@ -1223,7 +1346,7 @@ mod tests {
                 }
             }
             let lines = flatten(&contours, &[], limits.bound);
-            let findings = check(&bitmap, &contours, &[], limits, &HashSet::new());
+            let findings = check(&bitmap, &contours, &[], limits, &HashSet::new(), None);
             let mut polynomial = 0;
             for (i, c) in contours.iter().enumerate() {
                 let line = &lines[i].0;
@@ -1293,5 +1416,85 @@ mod tests {
         for (k, &s) in segments.iter().enumerate() {
             assert_eq!(runs.at(k as u32), s, "point {k}");
         }
+    }
+
+    /// A first check given the borders, which compares the pixels only in the tiles near
+    /// a border or a drawn edge, finds exactly what a check of every row finds: on a
+    /// faithful trace, with a shape lost (its outline not drawn), with a shape invented
+    /// far from any ink, and with a large square lost, whose disagreement reaches far
+    /// beyond those tiles (the check must then look everywhere to measure it whole).
+    #[test]
+    fn a_first_check_in_the_band_finds_what_a_full_check_finds() {
+        // Large enough for the band (`BAND_PIXELS`).
+        let (w, h) = (1200u32, 900u32);
+        assert!((w * h) as usize >= BAND_PIXELS);
+        let disks = [(40.0, 40.0, 11.0), (80.0, 44.0, 13.0)];
+        let cov = (0..w * h)
+            .map(|i| {
+                let (x, y) = (f64::from(i % w), f64::from(i / w));
+                let mut n = 0;
+                for k in 0..16 {
+                    let p = (
+                        x + (f64::from(k % 4) + 0.5) / 4.0,
+                        y + (f64::from(k / 4) + 0.5) / 4.0,
+                    );
+                    let square = (200.3..300.3).contains(&p.0) && (150.6..250.6).contains(&p.1);
+                    if square || disks.iter().any(|d| (p.0 - d.0).hypot(p.1 - d.1) <= d.2) {
+                        n += 1;
+                    }
+                }
+                n as f32 / 16.0
+            })
+            .collect();
+        let bitmap = Bitmap::from_coverage(w, h, cov, None).unwrap();
+        let (base, limits) = traced_unchecked(&bitmap);
+        assert_eq!(base.len(), 3);
+        let options = crate::contour::ContourOptions {
+            min_area: 2.0,
+            edge_spread: false,
+        };
+        let borders = crate::contour::extract_borders(&bitmap, &options)
+            .unwrap()
+            .borders;
+        let none = HashSet::new();
+        let both = |contours: &[FittedContour]| {
+            let full = check(&bitmap, contours, &[], limits, &none, None);
+            let band = check(&bitmap, contours, &[], limits, &none, Some(&borders));
+            assert_eq!(summary(&band), summary(&full));
+            full
+        };
+        assert!(both(&base).held());
+        // The contour whose points start nearest to x (from the left).
+        let index_at = |x: f64| {
+            let left = |i: usize| base[i].points.iter().map(|p| p.x).fold(f64::MAX, f64::min);
+            (0..3)
+                .min_by(|&a, &b| (left(a) - x).abs().total_cmp(&(left(b) - x).abs()))
+                .unwrap()
+        };
+        // A disk lost.
+        let mut lost = base.clone();
+        lost[index_at(67.0)].segments.clear();
+        let found = both(&lost);
+        assert!(!found.regions.is_empty());
+        // A disk invented 150 px below the first, on blank paper.
+        let mut invented = base.clone();
+        let mut copy = base[index_at(29.0)].clone();
+        for s in &mut copy.segments {
+            for p in &mut s.curve.points {
+                p.y += 150.0;
+            }
+        }
+        invented.push(copy);
+        let found = both(&invented);
+        assert!(found.regions.iter().any(|r| r.pixels.len() > 300));
+        // The square lost: 10 000 px, most of them far from every crack.
+        let mut square = base.clone();
+        square[index_at(200.0)].segments.clear();
+        let found = both(&square);
+        assert!(
+            found.regions.iter().any(|r| r.pixels.len() > 9_000),
+            "{:?}",
+            found.largest
+        );
     }
 }
