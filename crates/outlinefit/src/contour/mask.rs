@@ -11,7 +11,8 @@
 //! no memory beyond the mask and the loops themselves.
 
 use crate::geom::Point;
-use crate::raster::{Bitmap, Classes};
+use crate::raster::bits::{padded_foreground, Bits};
+use crate::raster::Bitmap;
 
 /// One pixel edge between a foreground and a background pixel: the vertex it leaves (in
 /// padded coordinates) and its direction, with the foreground on its right. Twelve bytes,
@@ -210,131 +211,6 @@ fn resolve_diagonals(mask: &mut Bits, width: usize, height: usize, bitmap: &Bitm
     }
 }
 
-/// One bit per pixel, row-major.
-struct Bits(Vec<u64>);
-
-impl Bits {
-    fn new(len: usize) -> Bits {
-        Bits(vec![0; len.div_ceil(64)])
-    }
-
-    #[inline]
-    fn get(&self, i: usize) -> bool {
-        self.0.get(i >> 6).is_some_and(|w| (w >> (i & 63)) & 1 != 0)
-    }
-
-    #[inline]
-    fn set(&mut self, i: usize) {
-        if let Some(w) = self.0.get_mut(i >> 6) {
-            *w |= 1 << (i & 63);
-        }
-    }
-
-    /// The indices `i` in `first..last` (`first ≥ 1`) whose bit differs from bit `i − 1`,
-    /// in order, found a 64-bit word at a time.
-    fn changes(&self, first: usize, last: usize) -> impl Iterator<Item = usize> + '_ {
-        let words = first / 64..last.div_ceil(64).min(self.0.len());
-        words.flat_map(move |k| {
-            let word = self.0[k];
-            let carry = if k > 0 { self.0[k - 1] >> 63 } else { 0 };
-            let base = 64 * k;
-            let mut changes = (word ^ ((word << 1) | carry))
-                & bit_range(first.saturating_sub(base), (last - base).min(64));
-            std::iter::from_fn(move || {
-                if changes == 0 {
-                    return None;
-                }
-                let i = base + changes.trailing_zeros() as usize;
-                changes &= changes - 1;
-                Some(i)
-            })
-        })
-    }
-
-    #[inline]
-    fn clear(&mut self, i: usize) {
-        if let Some(w) = self.0.get_mut(i >> 6) {
-            *w &= !(1 << (i & 63));
-        }
-    }
-}
-
-/// A word with bits `lo..hi` set (`lo ≤ hi ≤ 64`; none when `lo ≥ hi`).
-fn bit_range(lo: usize, hi: usize) -> u64 {
-    if lo >= hi {
-        return 0;
-    }
-    let below_hi = if hi >= 64 { u64::MAX } else { (1 << hi) - 1 };
-    below_hi & !((1 << lo) - 1)
-}
-
-/// Words of the mask (64 pixels each) per chunk that [`PaddedMask::new`] fills in
-/// parallel on a large image.
-const MASK_CHUNK_WORDS: usize = 1 << 14;
-
-/// Sets the foreground bits of `words`, the mask's words from index `first` on, in the
-/// padded layout (`pw` bits per row, one row and one column of padding before the
-/// image's `h` rows). Reads every image row the words touch; at a chunk's seam a row is
-/// read by both chunks, but each bit is set by the chunk that owns its word.
-fn fill_words(
-    bitmap: &Bitmap,
-    classes: &Classes,
-    pw: usize,
-    h: usize,
-    first: usize,
-    words: &mut [u64],
-) {
-    let w = bitmap.width() as usize;
-    let (lo, hi) = (64 * first, 64 * (first + words.len()));
-    let mut row = vec![0u8; w];
-    // Padded row r + 1 holds image row r after one padding pixel.
-    let rows = (lo / pw).max(1)..(hi.div_ceil(pw)).min(h + 1);
-    for padded in rows {
-        let start = padded * pw + 1;
-        let (from, to) = (lo.max(start), hi.min(start + w));
-        if from >= to {
-            continue;
-        }
-        bitmap.read_row_classes(padded - 1, 0, classes, &mut row);
-        set_bits(words, from - lo, &row[from - start..to - start]);
-    }
-}
-
-/// The classes [`fill_words`] reads: 1 for a foreground level, else 0.
-fn foreground_classes(bitmap: &Bitmap) -> Classes {
-    let t = bitmap.threshold();
-    bitmap.level_classes(|v| u8::from(f64::from(v) >= t))
-}
-
-/// Sets bit `at + k` of `words` for every `bits[k]` that is 1 (each is 0 or 1), a word
-/// at a time: 64 bytes are gathered into a register and written once, rather than 64
-/// read-modify-writes of one word that each wait for the one before.
-fn set_bits(words: &mut [u64], at: usize, bits: &[u8]) {
-    let (mut j, mut rest) = (at, bits);
-    // The first word, up to its end.
-    let lead = ((64 - j % 64) % 64).min(rest.len());
-    let (head, tail) = rest.split_at(lead);
-    for &b in head {
-        words[j >> 6] |= u64::from(b) << (j & 63);
-        j += 1;
-    }
-    rest = tail;
-    // Whole words.
-    let mut chunks = rest.chunks_exact(64);
-    for chunk in &mut chunks {
-        let mut word = 0u64;
-        for (k, &b) in chunk.iter().enumerate() {
-            word |= u64::from(b) << k;
-        }
-        words[j >> 6] |= word;
-        j += 64;
-    }
-    for &b in chunks.remainder() {
-        words[j >> 6] |= u64::from(b) << (j & 63);
-        j += 1;
-    }
-}
-
 /// The padded binary mask: 1 pixel of background around the image.
 pub(super) struct PaddedMask {
     pub(super) width: i64,
@@ -351,23 +227,10 @@ impl PaddedMask {
         // Cracks store their vertices as i32.
         i32::try_from(pw + 1).ok()?;
         i32::try_from(h + 3).ok()?;
-        let len = pw * (h + 2);
-        let mut foreground = Bits::new(len);
-        let classes = foreground_classes(bitmap);
-        // A large image is thresholded in chunks of words on the thread pool: each chunk
-        // owns its words, so the bits are the same in any order.
-        if w * h >= 2 * 64 * MASK_CHUNK_WORDS {
-            use rayon::prelude::*;
-            foreground
-                .0
-                .par_chunks_mut(MASK_CHUNK_WORDS)
-                .enumerate()
-                .for_each(|(k, words)| {
-                    fill_words(bitmap, &classes, pw, h, k * MASK_CHUNK_WORDS, words)
-                });
-        } else {
-            fill_words(bitmap, &classes, pw, h, 0, &mut foreground.0);
-        }
+        // Made with the bitmap (its bilevel count reads them), else made here.
+        let mut foreground = bitmap
+            .take_padded_foreground()
+            .unwrap_or_else(|| padded_foreground(bitmap));
         resolve_diagonals(&mut foreground, pw, h + 2, bitmap);
         Some(PaddedMask {
             width: i64::try_from(pw).ok()?,
@@ -564,6 +427,7 @@ fn vertical_crack(c: &Crack) -> Option<(usize, usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::bits::{fill_words, foreground_classes, set_bits, MASK_CHUNK_WORDS};
     use imageproc::contours::{find_contours, BorderType};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;

@@ -42,6 +42,7 @@ use levels::Levels;
 use std::borrow::Cow;
 use std::path::Path;
 
+pub(crate) mod bits;
 pub(crate) mod frames;
 mod levels;
 mod lighting;
@@ -181,6 +182,25 @@ pub struct Bitmap {
     frames: u32,
     /// True when the paper's level was divided out before thresholding.
     local_threshold: bool,
+    /// The thresholded pixels, made with the bitmap, until the border scan takes them.
+    padded: PaddedBits,
+}
+
+/// The foreground bits of a [`Bitmap`] (see [`bits::padded_foreground`]), taken once: a
+/// copy of the bitmap starts without them, and whoever needs them then makes them.
+#[derive(Default)]
+struct PaddedBits(std::sync::Mutex<Option<bits::Bits>>);
+
+impl Clone for PaddedBits {
+    fn clone(&self) -> Self {
+        PaddedBits::default()
+    }
+}
+
+impl std::fmt::Debug for PaddedBits {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("PaddedBits")
+    }
 }
 
 impl Bitmap {
@@ -284,10 +304,19 @@ impl Bitmap {
             frame: 0,
             frames: 1,
             local_threshold: false,
+            padded: PaddedBits::default(),
         };
-        bitmap.bilevel = bitmap.detect_bilevel();
+        let foreground = bits::padded_foreground(&bitmap);
+        bitmap.bilevel = bitmap.detect_bilevel(&foreground);
+        bitmap.padded = PaddedBits(std::sync::Mutex::new(Some(foreground)));
         bitmap.border_foreground = bitmap.measure_border();
         Ok(bitmap)
+    }
+
+    /// The thresholded pixels in the border scan's padded layout, made with the bitmap;
+    /// `None` once taken (or in a copy of the bitmap).
+    pub(crate) fn take_padded_foreground(&self) -> Option<bits::Bits> {
+        self.padded.0.lock().ok()?.take()
     }
 
     /// Width in pixels.
@@ -473,6 +502,7 @@ impl Bitmap {
 
     /// The smallest `f32` that counts as foreground: `v >= self.foreground_level()` exactly
     /// when `f64::from(v) >= self.threshold`, for comparisons in `f32`.
+    #[cfg(test)]
     fn foreground_level(&self) -> f32 {
         let t = self.threshold as f32;
         if f64::from(t) < self.threshold {
@@ -483,28 +513,38 @@ impl Bitmap {
         }
     }
 
-    fn detect_bilevel(&self) -> bool {
+    /// Whether (almost) no pixel beside a threshold crossing is grey, from the crossings
+    /// of `foreground` (the thresholded pixels, padded), whose grey pixels alone are read.
+    fn detect_bilevel(&self, foreground: &bits::Bits) -> bool {
         let w = self.width as usize;
         let rows = self.coverage.len() / w;
+        let grey = |c: usize, r: usize| {
+            let v = self.coverage_at(c as i64, r as i64);
+            v > GREY_LO && v < GREY_HI
+        };
         // A large image is counted in bands of rows on the thread pool; the counts are
         // whole numbers, so their sum is the same on any number of threads.
         let band = (BILEVEL_BAND_PIXELS / w).max(1);
-        let classes = self.crossing_classes();
         let (edge, grey_edge) = if rows * w >= 2 * BILEVEL_BAND_PIXELS {
             use rayon::prelude::*;
             (0..rows.div_ceil(band))
                 .into_par_iter()
-                .map(|k| self.crossings(k * band..((k + 1) * band).min(rows), &classes))
+                .map(|k| {
+                    let part = k * band..((k + 1) * band).min(rows);
+                    bits::crossings(foreground, w, rows, part, grey)
+                })
                 .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
         } else {
-            self.crossings(0..rows, &classes)
+            bits::crossings(foreground, w, rows, 0..rows, grey)
         };
         (grey_edge as f64) < BILEVEL_GREY_FRACTION * edge as f64 || edge == 0
     }
 
     /// The threshold crossings between neighbouring pixels within the rows of `band` and
     /// between each of them and the next row, and how many of their pixels are grey (see
-    /// [`crossing_counts`]), from the classes of [`Bitmap::crossing_classes`].
+    /// [`crossing_counts`]), from the classes of [`Bitmap::crossing_classes`]: every
+    /// pixel read, what [`bits::crossings`] counts from the bits' changes.
+    #[cfg(test)]
     fn crossings(&self, band: std::ops::Range<usize>, classes: &Classes) -> (u64, u64) {
         let w = self.width as usize;
         let rows = self.coverage.len() / w;
@@ -527,6 +567,7 @@ impl Bitmap {
     }
 
     /// The classes the bilevel count reads: [`FOREGROUND`] and [`GREY`] bits.
+    #[cfg(test)]
     fn crossing_classes(&self) -> Classes {
         let level = self.foreground_level();
         self.level_classes(|v| {
@@ -563,13 +604,16 @@ impl Bitmap {
 const BILEVEL_BAND_PIXELS: usize = 1 << 20;
 
 /// Class bit of a pixel at or above the foreground level (see [`crossing_counts`]).
+#[cfg(test)]
 const FOREGROUND: u8 = 1;
 /// Class bit of a grey pixel: coverage strictly between [`GREY_LO`] and [`GREY_HI`].
+#[cfg(test)]
 const GREY: u8 = 2;
 
 /// Over pixel pairs (a[i], b[i]) of classes ([`FOREGROUND`], [`GREY`] bits): twice the
 /// number of pairs that cross the threshold (one on each side), and how many of those
 /// pixels are grey. Written as plain sums of bytes so that it vectorises.
+#[cfg(test)]
 fn crossing_counts(a: &[u8], b: &[u8]) -> (u64, u64) {
     let grey = |c: u8| u16::from(c >> 1);
     let (mut edge, mut grey_edge) = (0u64, 0u64);
@@ -1367,6 +1411,56 @@ mod tests {
             .fold((0, 0), |a, c| (a.0 + c.0, a.1 + c.1));
         assert_eq!(whole, banded);
         assert!(whole.0 > 0 && whole.1 > 0, "{whole:?}");
+    }
+
+    /// The bilevel count read from the foreground bits' changes gives the counts of the
+    /// pass that reads every pixel's class, on random grey and black-and-white images of
+    /// widths below, at and across 64-bit words, in bands and whole.
+    #[test]
+    fn crossings_from_the_bits_are_those_of_every_pixel() {
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for (w, h) in [
+            (1usize, 1usize),
+            (5, 7),
+            (63, 9),
+            (64, 4),
+            (65, 11),
+            (130, 40),
+            (300, 17),
+        ] {
+            for grey_levels in [false, true] {
+                let coverage: Vec<f32> = (0..w * h)
+                    .map(|_| {
+                        let v = next();
+                        if grey_levels && v % 3 == 0 {
+                            (v >> 40) as f32 / (1u64 << 24) as f32
+                        } else {
+                            f32::from(u8::from(v % 2 == 0))
+                        }
+                    })
+                    .collect();
+                let b = Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap();
+                let foreground = bits::padded_foreground(&b);
+                let grey = |c: usize, r: usize| {
+                    let v = b.coverage_at(c as i64, r as i64);
+                    v > GREY_LO && v < GREY_HI
+                };
+                let classes = b.crossing_classes();
+                for band in [0..h, 0..h / 2, h / 2..h] {
+                    let ours = bits::crossings(&foreground, w, h, band.clone(), grey);
+                    assert_eq!(ours, b.crossings(band, &classes), "{w} × {h}");
+                }
+                let whole = bits::crossings(&foreground, w, h, 0..h, grey);
+                assert!(w * h < 4 || whole.0 > 0, "{w} × {h}");
+                assert_eq!(grey_levels && w * h > 20, whole.1 > 0, "{w} × {h}");
+            }
+        }
     }
 
     #[test]
