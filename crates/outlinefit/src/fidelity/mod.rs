@@ -894,8 +894,10 @@ fn band_tiles(
         for line in part {
             let mut last = [usize::MAX; 4];
             for v in line {
+                // Truncated (within a pixel, like rounding down; `floor` is a library
+                // call on the baseline x86-64).
                 let p = v.point();
-                let (x, y) = (p.x.floor() as i64, p.y.floor() as i64);
+                let (x, y) = (p.x as i64, p.y as i64);
                 last = marks.mark_near(x, y, margin + chord, last);
             }
         }
