@@ -11,7 +11,7 @@
 //! no memory beyond the mask and the loops themselves.
 
 use crate::geom::Point;
-use crate::raster::bits::{padded_foreground, Bits};
+use crate::raster::bits::Bits;
 use crate::raster::Bitmap;
 
 /// One pixel edge between a foreground and a background pixel: the vertex it leaves (in
@@ -230,7 +230,7 @@ impl PaddedMask {
         // Made with the bitmap (its bilevel count reads them), else made here.
         let mut foreground = bitmap
             .take_padded_foreground()
-            .unwrap_or_else(|| padded_foreground(bitmap));
+            .unwrap_or_else(|| bitmap.padded_foreground());
         resolve_diagonals(&mut foreground, pw, h + 2, bitmap);
         Some(PaddedMask {
             width: i64::try_from(pw).ok()?,
@@ -427,7 +427,7 @@ fn vertical_crack(c: &Crack) -> Option<(usize, usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::bits::{fill_words, foreground_classes, set_bits, MASK_CHUNK_WORDS};
+    use crate::raster::bits::{fill_words, set_bits, MASK_CHUNK_WORDS};
     use imageproc::contours::{find_contours, BorderType};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
@@ -491,8 +491,10 @@ mod tests {
         let pw = w + 2;
         let len = (pw * (h + 2)).div_ceil(64);
         let mut whole = vec![0u64; len];
-        let classes = foreground_classes(&bitmap);
-        fill_words(&bitmap, &classes, pw, h, 0, &mut whole);
+        let t = bitmap.threshold();
+        let classes = bitmap.level_classes(|v| u8::from(f64::from(v) >= t));
+        let read_row = |r: usize, out: &mut [u8]| bitmap.read_row_classes(r, 0, &classes, out);
+        fill_words(&read_row, w, h, 0, &mut whole);
         let mut chunked = vec![0u64; len];
         // Uneven chunks, one of a single word, seams anywhere in a row.
         let mut first = 0;
@@ -504,7 +506,7 @@ mod tests {
                 break;
             }
             let end = (first + size).min(len);
-            fill_words(&bitmap, &classes, pw, h, first, &mut chunked[first..end]);
+            fill_words(&read_row, w, h, first, &mut chunked[first..end]);
             first = end;
         }
         assert_eq!(chunked, whole);

@@ -1,28 +1,26 @@
 //! The thresholded image as one bit per pixel, in the padded layout of the border scan
 //! (one pixel of background on every side, `width + 2` bits per row): made once with
-//! the [`Bitmap`], whose bilevel count reads its changes, and handed to the border scan.
+//! the bitmap, whose bilevel count reads its changes, and handed to the border scan.
 
-use super::{Bitmap, Classes};
+/// Writes the foreground classes (1 or 0) of image row `row` into the buffer, whose
+/// length is the image's width.
+pub(crate) type ReadRow<'a> = &'a (dyn Fn(usize, &mut [u8]) + Sync);
 
-/// The foreground bits of `bitmap` in the padded layout: a large image is thresholded in
-/// chunks of words on the thread pool, each chunk owning its words, so the bits are the
-/// same in any order.
-pub(crate) fn padded_foreground(bitmap: &Bitmap) -> Bits {
-    let (w, h) = (bitmap.width() as usize, bitmap.height() as usize);
+/// The foreground bits of a `w` × `h` image whose rows `read_row` gives, in the padded
+/// layout: a large image is thresholded in chunks of words on the thread pool, each
+/// chunk owning its words, so the bits are the same in any order.
+pub(crate) fn padded_foreground(w: usize, h: usize, read_row: ReadRow<'_>) -> Bits {
     let pw = w + 2;
     let mut foreground = Bits::new(pw * (h + 2));
-    let classes = foreground_classes(bitmap);
     if w * h >= 2 * 64 * MASK_CHUNK_WORDS {
         use rayon::prelude::*;
         foreground
             .0
             .par_chunks_mut(MASK_CHUNK_WORDS)
             .enumerate()
-            .for_each(|(k, words)| {
-                fill_words(bitmap, &classes, pw, h, k * MASK_CHUNK_WORDS, words)
-            });
+            .for_each(|(k, words)| fill_words(read_row, w, h, k * MASK_CHUNK_WORDS, words));
     } else {
-        fill_words(bitmap, &classes, pw, h, 0, &mut foreground.0);
+        fill_words(read_row, w, h, 0, &mut foreground.0);
     }
     foreground
 }
@@ -90,18 +88,17 @@ fn bit_range(lo: usize, hi: usize) -> u64 {
 pub(crate) const MASK_CHUNK_WORDS: usize = 1 << 14;
 
 /// Sets the foreground bits of `words`, the mask's words from index `first` on, in the
-/// padded layout (`pw` bits per row, one row and one column of padding before the
+/// padded layout (`w + 2` bits per row, one row and one column of padding before the
 /// image's `h` rows). Reads every image row the words touch; at a chunk's seam a row is
 /// read by both chunks, but each bit is set by the chunk that owns its word.
 pub(crate) fn fill_words(
-    bitmap: &Bitmap,
-    classes: &Classes,
-    pw: usize,
+    read_row: ReadRow<'_>,
+    w: usize,
     h: usize,
     first: usize,
     words: &mut [u64],
 ) {
-    let w = bitmap.width() as usize;
+    let pw = w + 2;
     let (lo, hi) = (64 * first, 64 * (first + words.len()));
     let mut row = vec![0u8; w];
     // Padded row r + 1 holds image row r after one padding pixel.
@@ -112,15 +109,9 @@ pub(crate) fn fill_words(
         if from >= to {
             continue;
         }
-        bitmap.read_row_classes(padded - 1, 0, classes, &mut row);
+        read_row(padded - 1, &mut row);
         set_bits(words, from - lo, &row[from - start..to - start]);
     }
-}
-
-/// The classes [`fill_words`] reads: 1 for a foreground level, else 0.
-pub(crate) fn foreground_classes(bitmap: &Bitmap) -> Classes {
-    let t = bitmap.threshold();
-    bitmap.level_classes(|v| u8::from(f64::from(v) >= t))
 }
 
 /// Sets bit `at + k` of `words` for every `bits[k]` that is 1 (each is 0 or 1), a word

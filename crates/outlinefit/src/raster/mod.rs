@@ -306,7 +306,7 @@ impl Bitmap {
             local_threshold: false,
             padded: PaddedBits::default(),
         };
-        let foreground = bits::padded_foreground(&bitmap);
+        let foreground = bitmap.padded_foreground();
         bitmap.bilevel = bitmap.detect_bilevel(&foreground);
         bitmap.padded = PaddedBits(std::sync::Mutex::new(Some(foreground)));
         bitmap.border_foreground = bitmap.measure_border();
@@ -317,6 +317,14 @@ impl Bitmap {
     /// `None` once taken (or in a copy of the bitmap).
     pub(crate) fn take_padded_foreground(&self) -> Option<bits::Bits> {
         self.padded.0.lock().ok()?.take()
+    }
+
+    /// The thresholded pixels in the border scan's padded layout, made anew.
+    pub(crate) fn padded_foreground(&self) -> bits::Bits {
+        let t = self.threshold;
+        let classes = self.level_classes(|v| u8::from(f64::from(v) >= t));
+        let read_row = |r: usize, out: &mut [u8]| self.read_row_classes(r, 0, &classes, out);
+        bits::padded_foreground(self.width as usize, self.height as usize, &read_row)
     }
 
     /// Width in pixels.
@@ -1446,7 +1454,7 @@ mod tests {
                     })
                     .collect();
                 let b = Bitmap::from_coverage(w as u32, h as u32, coverage, Some(0.5)).unwrap();
-                let foreground = bits::padded_foreground(&b);
+                let foreground = b.padded_foreground();
                 let grey = |c: usize, r: usize| {
                     let v = b.coverage_at(c as i64, r as i64);
                     v > GREY_LO && v < GREY_HI
