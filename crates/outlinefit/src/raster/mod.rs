@@ -989,44 +989,50 @@ fn decode_png_file(
 ) -> Result<Option<DynamicImage>> {
     use image::codecs::png::PngDecoder;
     use std::io::{BufReader, Read, Seek};
+    let read_error = |source| Error::Read {
+        path: path.to_path_buf(),
+        source,
+    };
     let mut magic = [0u8; 8];
     if file.read_exact(&mut magic).is_err() || magic != *b"\x89PNG\r\n\x1a\n" {
         return Ok(None);
     }
-    file.rewind().map_err(|source| Error::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let decode_error = |source| Error::Decode {
-        path: path.to_path_buf(),
-        source,
-    };
-    let mut decoder =
-        PngDecoder::new(BufReader::with_capacity(1 << 16, file)).map_err(decode_error)?;
-    if decoder.is_apng().map_err(decode_error)? {
+    file.rewind().map_err(read_error)?;
+    // Its chunks before the pixels say whether it is animated.
+    let animated = PngDecoder::new(BufReader::new(&mut *file))
+        .and_then(|d| d.is_apng())
+        .map_err(|source| Error::Decode {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    if animated {
         return Ok(None);
     }
+    file.rewind().map_err(read_error)?;
+    let reader = ImageReader::with_format(
+        BufReader::with_capacity(1 << 16, file),
+        image::ImageFormat::Png,
+    );
+    let check = |w, h, bpp| decode_check(w, h, bpp, opts);
+    decode_still(reader, decode_limits(opts), path, &check).map(Some)
+}
+
+/// The decoder's memory cap for `opts.max_pixels` (see [`decode_bytes`]).
+fn decode_limits(opts: &RasterOptions) -> Limits {
     let mut limits = Limits::default();
     limits.max_alloc = Some(
         opts.max_pixels
             .saturating_mul(DECODE_BYTES_PER_PIXEL)
             .saturating_add(DECODE_SLACK_BYTES),
     );
-    decoder.set_limits(limits).map_err(decode_error)?;
-    let (width, height) = decoder.dimensions();
+    limits
+}
+
+/// The size checks made from a header before any pixel is decoded: the pixel limit and
+/// the memory the decoded image (`bpp` bytes a pixel) will need.
+fn decode_check(width: u32, height: u32, bpp: u64, opts: &RasterOptions) -> Result<()> {
     check_dimensions(width, height, opts.max_pixels)?;
-    check_memory(
-        width,
-        height,
-        u64::from(decoder.color_type().bytes_per_pixel()),
-    )?;
-    // A missing or unreadable orientation tag means upright.
-    let orientation = decoder
-        .orientation()
-        .unwrap_or(image::metadata::Orientation::NoTransforms);
-    let mut img = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
-    img.apply_orientation(orientation);
-    Ok(Some(img))
+    check_memory(width, height, bpp)
 }
 
 /// [`Bitmap::load_bytes`].
@@ -1071,17 +1077,10 @@ pub(crate) fn decode_bytes(
             ),
         )));
     }
-    let max_bytes = opts
-        .max_pixels
-        .saturating_mul(DECODE_BYTES_PER_PIXEL)
-        .saturating_add(DECODE_SLACK_BYTES);
-    let mut limits = Limits::default();
-    limits.max_alloc = Some(max_bytes);
+    let limits = decode_limits(opts);
+    let max_bytes = limits.max_alloc.unwrap_or(u64::MAX);
     let format = reader.format();
-    let check = |w, h, bpp| {
-        check_dimensions(w, h, opts.max_pixels)?;
-        check_memory(w, h, bpp)
-    };
+    let check = |w, h, bpp| decode_check(w, h, bpp, opts);
     let (img, frames) = if let Some(found) =
         frames::animation_frame(bytes, format, opts.frame, &limits, name, &check)?
     {
@@ -1114,8 +1113,8 @@ pub(crate) fn decode_bytes(
 
 /// Decodes a still image (or an animation's first frame) with `limits`, checking its size
 /// with `check` before any pixel is decoded and applying its EXIF orientation.
-fn decode_still(
-    mut reader: ImageReader<std::io::Cursor<&[u8]>>,
+fn decode_still<R: std::io::BufRead + std::io::Seek>(
+    mut reader: ImageReader<R>,
     limits: Limits,
     name: &Path,
     check: &dyn Fn(u32, u32, u64) -> Result<()>,
