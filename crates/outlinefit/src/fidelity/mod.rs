@@ -1194,22 +1194,27 @@ mod tests {
     /// Three anti-aliased disks (coverage from 4 × 4 samples per pixel) on a 120 × 64
     /// image, at x = 18, 60 and 100.
     fn three_disks() -> Bitmap {
-        let (w, h) = (120u32, 64u32);
         let disks = [(18.0, 32.0, 11.0), (60.0, 30.0, 13.0), (100.0, 34.0, 9.5)];
+        supersampled(120, 64, |x, y| {
+            disks.iter().any(|d| (x - d.0).hypot(y - d.1) <= d.2)
+        })
+    }
+
+    /// The anti-aliased bitmap of the shape where `inside(x, y)`: coverage from 4 × 4
+    /// samples per pixel.
+    fn supersampled(w: u32, h: u32, inside: impl Fn(f64, f64) -> bool) -> Bitmap {
         let cov = (0..w * h)
             .map(|i| {
                 let (x, y) = (f64::from(i % w), f64::from(i / w));
-                let mut n = 0;
-                for k in 0..16 {
-                    let p = (
-                        x + (f64::from(k % 4) + 0.5) / 4.0,
-                        y + (f64::from(k / 4) + 0.5) / 4.0,
-                    );
-                    if disks.iter().any(|d| (p.0 - d.0).hypot(p.1 - d.1) <= d.2) {
-                        n += 1;
-                    }
-                }
-                n as f32 / 16.0
+                let hits = (0..16)
+                    .filter(|k| {
+                        inside(
+                            x + (f64::from(k % 4) + 0.5) / 4.0,
+                            y + (f64::from(k / 4) + 0.5) / 4.0,
+                        )
+                    })
+                    .count();
+                hits as f32 / 16.0
             })
             .collect();
         Bitmap::from_coverage(w, h, cov, None).unwrap()
@@ -1431,24 +1436,10 @@ mod tests {
         let (w, h) = (1200u32, 900u32);
         assert!((w * h) as usize >= BAND_PIXELS);
         let disks = [(40.0, 40.0, 11.0), (80.0, 44.0, 13.0)];
-        let cov = (0..w * h)
-            .map(|i| {
-                let (x, y) = (f64::from(i % w), f64::from(i / w));
-                let mut n = 0;
-                for k in 0..16 {
-                    let p = (
-                        x + (f64::from(k % 4) + 0.5) / 4.0,
-                        y + (f64::from(k / 4) + 0.5) / 4.0,
-                    );
-                    let square = (200.3..300.3).contains(&p.0) && (150.6..250.6).contains(&p.1);
-                    if square || disks.iter().any(|d| (p.0 - d.0).hypot(p.1 - d.1) <= d.2) {
-                        n += 1;
-                    }
-                }
-                n as f32 / 16.0
-            })
-            .collect();
-        let bitmap = Bitmap::from_coverage(w, h, cov, None).unwrap();
+        let bitmap = supersampled(w, h, |x, y| {
+            let square = (200.3..300.3).contains(&x) && (150.6..250.6).contains(&y);
+            square || disks.iter().any(|d| (x - d.0).hypot(y - d.1) <= d.2)
+        });
         let (base, limits) = traced_unchecked(&bitmap);
         assert_eq!(base.len(), 3);
         let options = crate::contour::ContourOptions {
