@@ -23,7 +23,7 @@ pub fn trace_colour_file(
     opts: &ColourOptions,
 ) -> Result<ColourTrace> {
     config.validate()?;
-    let (img, _) = raster::decode_file(path, &config.raster_options())?;
+    let (img, _) = raster::decode_file(path, config.raster_options().decoding())?;
     trace_colour(&img, config, opts)
 }
 
@@ -35,7 +35,7 @@ pub fn trace_colour_bytes(
     opts: &ColourOptions,
 ) -> Result<ColourTrace> {
     config.validate()?;
-    let (img, _) = raster::decode_bytes(bytes, name, &config.raster_options())?;
+    let (img, _) = raster::decode_bytes(bytes, name, config.raster_options().decoding())?;
     trace_colour(&img, config, opts)
 }
 
