@@ -1459,36 +1459,34 @@ mod tests {
         assert!(matches!(res, Err(Error::Decode { .. })), "{res:?}");
 
         // A large BMP named .png: read whole and decoded by its content.
-        let bmp = temp_path("large.bmp");
-        dynamic.save(&bmp).unwrap();
-        let misnamed = temp_path("large-bmp.png");
-        std::fs::rename(&bmp, &misnamed).unwrap();
-        let res = load(&misnamed, &opts());
-        let _ = std::fs::remove_file(&misnamed);
+        let res = load_misnamed(&dynamic, "large.bmp", "large-bmp.png");
         assert_eq!(
             res.unwrap().coverage_at(600, 500),
             from_bytes.coverage_at(600, 500)
         );
     }
 
+    /// Saves `img` in the format its name `saved` says, renames the file to `misnamed`,
+    /// loads it and removes it.
+    fn load_misnamed(img: &DynamicImage, saved: &str, misnamed: &str) -> Result<Bitmap> {
+        let path = temp_path(saved);
+        img.save(&path).unwrap();
+        let renamed = temp_path(misnamed);
+        std::fs::rename(&path, &renamed).unwrap();
+        let res = load(&renamed, &opts());
+        let _ = std::fs::remove_file(&renamed);
+        res
+    }
+
     #[test]
     fn content_decides_the_format() {
         // A PNG named .jpg, and a BMP named .png.
         let img = DynamicImage::ImageLuma8(block_image());
-        let png = temp_path("really-png.png");
-        img.save(&png).unwrap();
-        let misnamed = temp_path("misnamed.jpg");
-        std::fs::rename(&png, &misnamed).unwrap();
-        let res = load(&misnamed, &opts());
-        let _ = std::fs::remove_file(&misnamed);
+        let res = load_misnamed(&img, "really-png.png", "misnamed.jpg");
         assert_eq!(res.unwrap().coverage_at(2, 1), 1.0);
 
-        let bmp = temp_path("really-bmp.bmp");
-        DynamicImage::ImageRgb8(img.to_rgb8()).save(&bmp).unwrap();
-        let misnamed = temp_path("misnamed-bmp.png");
-        std::fs::rename(&bmp, &misnamed).unwrap();
-        let res = load(&misnamed, &opts());
-        let _ = std::fs::remove_file(&misnamed);
+        let rgb = DynamicImage::ImageRgb8(img.to_rgb8());
+        let res = load_misnamed(&rgb, "really-bmp.bmp", "misnamed-bmp.png");
         assert_eq!(res.unwrap().coverage_at(3, 2), 1.0);
     }
 }
