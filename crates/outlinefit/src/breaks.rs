@@ -17,7 +17,7 @@
 //! (linear interpolation along the polygon), so every break is a data point.
 
 use crate::contour::Contour;
-use crate::geom::{angle_between, line_crossing, wrap_once, Point};
+use crate::geom::{angle_between, line_crossing, wrap_once, AngleFloor, Point};
 use crate::raster::Bitmap;
 use serde::{Deserialize, Serialize};
 
@@ -146,37 +146,89 @@ fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f
 }
 
 /// Signed turning angle at every point over half-window `h` (positive turning clockwise on
-/// screen, i.e. towards +y from +x).
-pub(crate) fn turning_angles(points: &[Point], h: f64) -> Vec<f64> {
+/// screen, i.e. towards +y from +x), for a contour with arc positions `s` and length
+/// `total` ([`arc_lengths`]).
+///
+/// A point that turns certainly less than `floor` gets, instead of its angle, half the
+/// floor with the angle's sign (0 where the angle is exactly 0): every test
+/// [`find_breaks`] makes of it against the floor, its sign or larger angles then decides
+/// as the angle would, and [`Turns::exact`] gives the angle itself where a value is used.
+fn turning_angles(points: &[Point], s: &[f64], total: f64, h: f64, floor: f64) -> Turns {
     let n = points.len();
-    let (s, total) = arc_lengths(points);
     if n < 3 || total <= 0.0 {
-        return vec![0.0; n];
+        return Turns {
+            theta: vec![0.0; n],
+            chords: vec![(Point::ZERO, Point::ZERO); n],
+        };
     }
+    // Half the floor must stay far from underflow: its square decides a sign test.
+    let screen = (floor >= 1e-3).then(|| AngleFloor::new(floor));
     let h = h.min(total / 4.0);
     let (mut behind, mut ahead) = (0, 0);
-    (0..n)
+    let chords: Vec<(Point, Point)> = (0..n)
         .map(|i| {
-            let a = point_from(points, &s, total, &mut behind, s[i] - h);
-            let b = point_from(points, &s, total, &mut ahead, s[i] + h);
-            let din = points[i] - a;
-            let dout = b - points[i];
-            let ang = angle_between(din, dout);
-            if din.cross(dout) < 0.0 {
-                -ang
-            } else {
-                ang
+            let a = point_from(points, s, total, &mut behind, s[i] - h);
+            let b = point_from(points, s, total, &mut ahead, s[i] + h);
+            (points[i] - a, b - points[i])
+        })
+        .collect();
+    let theta = chords
+        .iter()
+        .map(|&(din, dout)| {
+            let cross = din.cross(dout);
+            match screen {
+                // atan2(0, d > 0) is +0 exactly.
+                Some(_) if cross == 0.0 && din.dot(dout) > 0.0 => 0.0,
+                // A cross product this far from underflow gives a non-zero angle.
+                Some(f)
+                    if cross.abs() > 1e-200 * din.dot(dout).abs()
+                        && f.certainly_below(din, dout) =>
+                {
+                    0.5 * floor.copysign(cross)
+                }
+                _ => signed_turn(din, dout),
             }
         })
-        .collect()
+        .collect();
+    Turns { theta, chords }
+}
+
+/// The turning angles of a contour's points, some given only against a floor (see
+/// [`turning_angles`]).
+struct Turns {
+    theta: Vec<f64>,
+    /// The arriving and leaving chords of every point.
+    chords: Vec<(Point, Point)>,
+}
+
+impl Turns {
+    /// The signed turning angle at point `i`.
+    fn exact(&self, i: usize) -> f64 {
+        let (din, dout) = self.chords[i];
+        signed_turn(din, dout)
+    }
+}
+
+/// The angle between `din` and `dout`, negative when `dout` turns anticlockwise on screen.
+fn signed_turn(din: Point, dout: Point) -> f64 {
+    let ang = angle_between(din, dout);
+    if din.cross(dout) < 0.0 {
+        -ang
+    } else {
+        ang
+    }
 }
 
 /// Turning angle at every point between two chords that skip the point's core: the
 /// arriving chord from s − 2h to s − h/2 and the leaving chord from s + h/2 to s + 2h.
 /// Anti-aliasing and smoothing round a sharp corner over about a pixel; skipping the core
 /// measures the full angle of the corner instead of the rounded one.
-fn corner_angles(points: &[Point], s: &[f64], total: f64, h: f64) -> Vec<f64> {
+///
+/// An angle certainly below `floor` is given as [`BELOW_FLOOR`] instead: the corners are
+/// the local maxima above the floor, which such a value cannot change.
+fn corner_angles(points: &[Point], s: &[f64], total: f64, h: f64, floor: f64) -> Vec<f64> {
     let n = points.len();
+    let floor = AngleFloor::new(floor);
     // One hint per offset, carried from point to point.
     let mut hints = [0; 4];
     (0..n)
@@ -185,10 +237,18 @@ fn corner_angles(points: &[Point], s: &[f64], total: f64, h: f64) -> Vec<f64> {
             let at = |d: f64, hint: &mut usize| point_from(points, s, total, hint, s[i] + d);
             let arriving = at(-0.5 * h, h1) - at(-2.0 * h, h0);
             let leaving = at(2.0 * h, h3) - at(0.5 * h, h2);
-            angle_between(arriving, leaving)
+            if floor.certainly_below(arriving, leaving) {
+                BELOW_FLOOR
+            } else {
+                angle_between(arriving, leaving)
+            }
         })
         .collect()
 }
+
+/// The angle [`corner_angles`] gives a point that turns certainly less than the corner
+/// floor: below every angle.
+const BELOW_FLOOR: f64 = -1.0;
 
 /// Marks every point whose arc distance (the shorter way round a closed contour of
 /// length `total`, arc positions `s`) to one of `centres` is at most `reach`. Each centre
@@ -283,7 +343,7 @@ pub(crate) fn find_breaks(
         let src = &contour.points;
         let (s, total) = arc_lengths(src);
         let h = h.min(total / 8.0);
-        let ca = corner_angles(src, &s, total, h);
+        let ca = corner_angles(src, &s, total, h, corner);
         let within = |i: usize, j: usize| {
             let d = (s[j] - s[i]).abs();
             d.min(total - d) <= h
@@ -381,8 +441,10 @@ pub(crate) fn find_breaks(
         .collect();
     if n >= 3 {
         // Pass 2: smooth features on the sharpened polygon, away from corners.
-        let theta = turning_angles(&points, h);
         let (s, total) = arc_lengths(&points);
+        let floor = opts.bend_floor;
+        let turns = turning_angles(&points, &s, total, h, floor);
+        let theta = &turns.theta;
         let within = |i: usize, j: usize| {
             let d = (s[j] - s[i]).abs();
             d.min(total - d) <= h
@@ -404,14 +466,16 @@ pub(crate) fn find_breaks(
         };
         let near = within_reach(&s, total, &corner_idx, 2.0 * h);
         let near_corner = |i: usize| near[i];
-        let floor = opts.bend_floor;
         for i in 0..n {
             if near_corner(i) {
                 continue;
             }
             // Curvature extremum, refined by a parabola through three samples.
             if theta[i].abs() > floor && is_local_max(i) {
-                let (a, c) = (theta[(i + n - 1) % n].abs(), theta[(i + 1) % n].abs());
+                let (a, c) = (
+                    turns.exact((i + n - 1) % n).abs(),
+                    turns.exact((i + 1) % n).abs(),
+                );
                 let b = theta[i].abs();
                 let denom = a - 2.0 * b + c;
                 let off = if denom.abs() > 1e-12 {
@@ -449,7 +513,8 @@ pub(crate) fn find_breaks(
                 };
                 if lobe(i, -1, theta[i].signum()) > floor && lobe(k, 1, theta[k].signum()) > floor {
                     if zeros == 0 {
-                        let f = theta[i].abs() / (theta[i].abs() + theta[j].abs());
+                        let (ti, tj) = (turns.exact(i).abs(), turns.exact(j).abs());
+                        let f = ti / (ti + tj);
                         found.push((i, f, JointKind::Smooth, BreakReason::Inflection));
                     } else {
                         found.push((j, 0.0, JointKind::Smooth, BreakReason::Inflection));
@@ -728,6 +793,46 @@ mod tests {
             }
         }
         pts
+    }
+
+    #[test]
+    fn screened_turns_decide_every_test_as_the_angles_do() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let floor = 0.12;
+        let mut screened = 0;
+        for _ in 0..50 {
+            // A wobbly closed curve on a pixel grid: straight steps, gentle and sharp turns.
+            let n = rng.random_range(40..200);
+            let r: Vec<f64> = (0..n).map(|_| 20.0 + rng.random_range(-0.3..0.3)).collect();
+            let points: Vec<Point> = (0..n)
+                .map(|i| {
+                    let t = i as f64 / n as f64 * std::f64::consts::TAU;
+                    let p = Point::new(r[i] * t.cos(), r[i] * t.sin());
+                    if rng.random_bool(0.3) {
+                        Point::new(p.x.round(), p.y.round())
+                    } else {
+                        p
+                    }
+                })
+                .collect();
+            let (s, total) = arc_lengths(&points);
+            let turns = turning_angles(&points, &s, total, 1.5, floor);
+            for (i, &t) in turns.theta.iter().enumerate() {
+                let exact = turns.exact(i);
+                if t.to_bits() == exact.to_bits() {
+                    continue;
+                }
+                screened += 1;
+                // A screened turn is below the floor, with the angle's sign, never zero.
+                assert!(
+                    exact.abs() < floor && t.abs() < floor,
+                    "{i}: {t} for {exact}"
+                );
+                assert!(t * exact > 0.0, "{i}: {t} for {exact}");
+            }
+        }
+        assert!(screened > 1_000, "{screened}");
     }
 
     #[test]

@@ -293,6 +293,48 @@ pub(crate) fn wrap_once(x: f64, m: f64) -> f64 {
     }
 }
 
+/// A floor on the angle between two vectors, tested without the angle's `atan2`: passes
+/// that look for turns of at least some angle (corners) skip the arctangent of every
+/// point that turns clearly less, which is most of them.
+///
+/// The test orders vectors by the "diamond angle" 1 − d / (|d| + |c|) of their dot
+/// product d and the absolute value of their cross product c, which rises with the angle
+/// from 0 (same direction) to 2 (opposite). A point counts as below the floor only when
+/// that value is below the floor's by [`AngleFloor::MARGIN`], far beyond its round-off
+/// (about 1e-16): the angle `atan2` would give it is then certainly below the floor too,
+/// so a pass that replaces such angles by a value below every angle decides exactly as
+/// with every angle computed.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct AngleFloor {
+    diamond: f64,
+}
+
+impl AngleFloor {
+    /// Margin of the diamond angle, about 1e-9 rad of angle.
+    const MARGIN: f64 = 1e-9;
+
+    /// The floor `theta` in radians, in [0, π].
+    pub(crate) fn new(theta: f64) -> Self {
+        let (s, c) = theta.sin_cos();
+        AngleFloor {
+            diamond: diamond(c, s.abs()),
+        }
+    }
+
+    /// True when the angle between `a` and `b` is certainly below the floor. False for
+    /// a zero vector (NaN compares false): the caller computes that angle itself.
+    #[inline]
+    pub(crate) fn certainly_below(self, a: Point, b: Point) -> bool {
+        diamond(a.dot(b), a.cross(b).abs()) < self.diamond - Self::MARGIN
+    }
+}
+
+/// 1 − d / (|d| + c) for c ≥ 0: rises with the angle atan2(c, d) from 0 to 2.
+#[inline]
+fn diamond(d: f64, c: f64) -> f64 {
+    1.0 - d / (d.abs() + c)
+}
+
 /// Angle in radians, in [0, π], between two non-zero vectors; 0 for a zero vector.
 pub(crate) fn angle_between(a: Point, b: Point) -> f64 {
     let la = a.length();
@@ -416,6 +458,42 @@ mod tests {
         assert_eq!(signed_area(&sq), 1.0);
         let rev: Vec<Point> = sq.iter().rev().copied().collect();
         assert_eq!(signed_area(&rev), -1.0);
+    }
+
+    #[test]
+    fn an_angle_floor_passes_only_angles_certainly_below_it() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for floor_deg in [10.0, 50.0, 90.0, 135.0, 179.0] {
+            let theta: f64 = f64::to_radians(floor_deg);
+            let floor = AngleFloor::new(theta);
+            let (mut below, mut passed) = (0, 0);
+            for _ in 0..20_000 {
+                let a = Point::new(rng.random_range(-50.0..50.0), rng.random_range(-50.0..50.0));
+                // Half the pairs turn by within 1e-6 rad of the floor.
+                let turn = if rng.random_bool(0.5) {
+                    theta + rng.random_range(-1e-6..1e-6)
+                } else {
+                    rng.random_range(0.0..std::f64::consts::PI)
+                };
+                let (s, c) = turn.sin_cos();
+                let b =
+                    Point::new(a.x * c - a.y * s, a.x * s + a.y * c) * rng.random_range(0.1..10.0);
+                let angle = angle_between(a, b);
+                if floor.certainly_below(a, b) {
+                    below += 1;
+                    assert!(angle < theta, "{floor_deg}: {angle} passed");
+                } else if angle < theta - 1e-8 {
+                    passed += 1;
+                }
+            }
+            // Clearly smaller turns pass the cheap test (none is sent to the arctangent).
+            assert_eq!(passed, 0, "{floor_deg}");
+            assert!(below > 1_000, "{floor_deg}: {below}");
+        }
+        // A zero vector is never certainly below: its angle is the caller's to give.
+        let floor = AngleFloor::new(0.5);
+        assert!(!floor.certainly_below(Point::ZERO, Point::new(1.0, 0.0)));
     }
 
     #[test]

@@ -12,6 +12,7 @@ use super::mask::Crack;
 use super::spikes::{drop_wrapping_edit, mark_edits};
 use super::workspace::Workspace;
 use crate::geom::distance_to_closed_polyline;
+use crate::geom::AngleFloor;
 use crate::geom::Point;
 use crate::raster::Bitmap;
 
@@ -610,6 +611,10 @@ impl Workspace {
             back_by(0, GREY_CORNER_REACH),
             ahead_by(0, GREY_CORNER_REACH),
         );
+        // Only local maxima of at least `min` count: a smaller angle is given as -1 (see
+        // `AngleFloor`), which decides every comparison below as its angle would.
+        let min = GREY_CORNER_ANGLE_DEG.to_radians();
+        let floor = AngleFloor::new(min);
         for i in 0..nn {
             while arc(i) - arc(b + 1) >= GREY_CORNER_REACH {
                 b += 1;
@@ -620,10 +625,14 @@ impl Workspace {
             while a < i + nn && arc(a) - arc(i) < GREY_CORNER_REACH {
                 a += 1;
             }
-            angles.push(turn_angle(at(i) - at(b), at(a) - at(i)));
+            let (back, ahead) = (at(i) - at(b), at(a) - at(i));
+            angles.push(if floor.certainly_below(back, ahead) {
+                -1.0
+            } else {
+                turn_angle(back, ahead)
+            });
             chord_ends.push((b, a));
         }
-        let min = GREY_CORNER_ANGLE_DEG.to_radians();
         let angle_at = |k: i64| angles[k.rem_euclid(nn) as usize];
         // (first removed unrolled index, removed count, new point)
         let mut edits: Vec<(i64, i64, Point)> = Vec::new();
