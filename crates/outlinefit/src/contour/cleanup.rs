@@ -6,6 +6,7 @@ use super::lines::norm;
 use super::lines::segment_crossing;
 use super::lines::turn_angle;
 use super::workspace::Workspace;
+use crate::geom::AngleFloor;
 use crate::geom::Point;
 
 /// Points closer than this (px) to their predecessor are removed.
@@ -131,13 +132,15 @@ impl Workspace {
             return;
         }
         let limit = ANCHOR_TURN_DEG.to_radians();
+        // Most points turn far less than the limit: those skip the arctangent.
+        let floor = AngleFloor::new(limit);
         for i in 0..n {
             let p = self.points[i];
-            let turn = turn_angle(
+            let (back, ahead) = (
                 p - self.points[(i + n - 1) % n],
                 self.points[(i + 1) % n] - p,
             );
-            if turn > limit {
+            if !floor.certainly_below(back, ahead) && turn_angle(back, ahead) > limit {
                 self.anchors[i] = true;
             }
         }
