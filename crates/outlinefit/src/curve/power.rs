@@ -169,6 +169,50 @@ impl PowerCubic {
         (u, d2)
     }
 
+    /// [`PowerCubic::project_quick_distance`] of two points at once, each exactly as alone:
+    /// the two chains of Newton steps are independent, and interleaving them lets the
+    /// processor work on one while the other waits on its divisions.
+    #[inline]
+    pub(crate) fn project_quick_distance_pair(
+        &self,
+        q: [Point; 2],
+        u0: [f64; 2],
+        iterations: usize,
+    ) -> [(f64, f64); 2] {
+        let mut u = [u0[0].clamp(0.0, 1.0), u0[1].clamp(0.0, 1.0)];
+        let mut jet = [self.jet(u[0]), self.jet(u[1])];
+        let mut d2 = [
+            (jet[0].point - q[0]).length_squared(),
+            (jet[1].point - q[1]).length_squared(),
+        ];
+        let mut active = [true, true];
+        for _ in 0..iterations {
+            if !active[0] && !active[1] {
+                break;
+            }
+            for k in 0..2 {
+                if !active[k] {
+                    continue;
+                }
+                let un = (u[k] + Self::newton_step(&jet[k], q[k])).clamp(0.0, 1.0);
+                if (un - u[k]).abs() <= CONVERGED_STEP {
+                    active[k] = false;
+                    continue;
+                }
+                let jn = self.jet(un);
+                let dn = (jn.point - q[k]).length_squared();
+                if dn > d2[k] {
+                    active[k] = false;
+                    continue;
+                }
+                u[k] = un;
+                jet[k] = jn;
+                d2[k] = dn;
+            }
+        }
+        [(u[0], d2[0]), (u[1], d2[1])]
+    }
+
     /// See [`RationalCubic::refine_projection`](crate::curve::RationalCubic::refine_projection); Newton stops at steps shorter than
     /// `min_step`.
     pub fn refine_projection(&self, q: Point, u0: f64, min_step: f64) -> (f64, f64) {
@@ -213,6 +257,34 @@ mod tests {
     use crate::curve::RationalCubic;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn projecting_two_points_at_once_gives_each_its_own_foot_bit_for_bit() {
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        for k in 0..300 {
+            fn pt(rng: &mut ChaCha8Rng, r: f64) -> Point {
+                Point::new(rng.random_range(-r..r), rng.random_range(-r..r))
+            }
+            let points = [0; 4].map(|_| pt(&mut rng, 50.0));
+            let weights = if k % 2 == 0 {
+                [1.0, 1.0]
+            } else {
+                [rng.random_range(0.2..2.5), rng.random_range(0.2..2.5)]
+            };
+            let power = RationalCubic::new(points, weights).power_form();
+            for steps in [0, 1, 2, 5] {
+                let q = [pt(&mut rng, 60.0), pt(&mut rng, 60.0)];
+                // Starts outside [0, 1] too: both are clamped.
+                let u = [rng.random_range(-0.2..1.2), rng.random_range(-0.2..1.2)];
+                let pair = power.project_quick_distance_pair(q, u, steps);
+                for j in 0..2 {
+                    let alone = power.project_quick_distance(q[j], u[j], steps);
+                    assert_eq!(pair[j].0.to_bits(), alone.0.to_bits(), "{k} {steps} {j}");
+                    assert_eq!(pair[j].1.to_bits(), alone.1.to_bits(), "{k} {steps} {j}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn power_form_matches_the_bernstein_form() {
