@@ -147,26 +147,14 @@ impl PowerCubic {
         u0: f64,
         iterations: usize,
     ) -> (f64, f64) {
-        let mut u = u0.clamp(0.0, 1.0);
-        let mut jet = self.jet(u);
-        let mut d2 = (jet.point - q).length_squared();
+        let mut p = self.quick_start(q, u0);
         for _ in 0..iterations {
-            let un = (u + Self::newton_step(&jet, q)).clamp(0.0, 1.0);
-            if (un - u).abs() <= CONVERGED_STEP {
-                // Converged: a further step moves the foot by less than round-off of
-                // pixel coordinates and would cost another evaluation.
+            if !p.going {
                 break;
             }
-            let jn = self.jet(un);
-            let dn = (jn.point - q).length_squared();
-            if dn > d2 {
-                break;
-            }
-            u = un;
-            jet = jn;
-            d2 = dn;
+            self.quick_step(&mut p, q);
         }
-        (u, d2)
+        (p.u, p.d2)
     }
 
     /// [`PowerCubic::project_quick_distance`] of two points at once, each exactly as alone:
@@ -179,38 +167,52 @@ impl PowerCubic {
         u0: [f64; 2],
         iterations: usize,
     ) -> [(f64, f64); 2] {
-        let mut u = [u0[0].clamp(0.0, 1.0), u0[1].clamp(0.0, 1.0)];
-        let mut jet = [self.jet(u[0]), self.jet(u[1])];
-        let mut d2 = [
-            (jet[0].point - q[0]).length_squared(),
-            (jet[1].point - q[1]).length_squared(),
-        ];
-        let mut active = [true, true];
+        let mut p = [self.quick_start(q[0], u0[0]), self.quick_start(q[1], u0[1])];
         for _ in 0..iterations {
-            if !active[0] && !active[1] {
+            if !p[0].going && !p[1].going {
                 break;
             }
-            for k in 0..2 {
-                if !active[k] {
-                    continue;
+            for (p, &q) in p.iter_mut().zip(&q) {
+                if p.going {
+                    self.quick_step(p, q);
                 }
-                let un = (u[k] + Self::newton_step(&jet[k], q[k])).clamp(0.0, 1.0);
-                if (un - u[k]).abs() <= CONVERGED_STEP {
-                    active[k] = false;
-                    continue;
-                }
-                let jn = self.jet(un);
-                let dn = (jn.point - q[k]).length_squared();
-                if dn > d2[k] {
-                    active[k] = false;
-                    continue;
-                }
-                u[k] = un;
-                jet[k] = jn;
-                d2[k] = dn;
             }
         }
-        [(u[0], d2[0]), (u[1], d2[1])]
+        p.map(|p| (p.u, p.d2))
+    }
+
+    /// The state of [`PowerCubic::project_quick_distance`] before its first step.
+    #[inline]
+    fn quick_start(&self, q: Point, u0: f64) -> QuickProjection {
+        let u = u0.clamp(0.0, 1.0);
+        let jet = self.jet(u);
+        QuickProjection {
+            u,
+            d2: (jet.point - q).length_squared(),
+            jet,
+            going: true,
+        }
+    }
+
+    /// One Newton step of [`PowerCubic::project_quick_distance`]; it stops once a step
+    /// is below [`CONVERGED_STEP`] (a further one moves the foot by less than round-off of
+    /// pixel coordinates and would cost another evaluation) or would move away from `q`.
+    #[inline]
+    fn quick_step(&self, p: &mut QuickProjection, q: Point) {
+        let un = (p.u + Self::newton_step(&p.jet, q)).clamp(0.0, 1.0);
+        if (un - p.u).abs() <= CONVERGED_STEP {
+            p.going = false;
+            return;
+        }
+        let jn = self.jet(un);
+        let dn = (jn.point - q).length_squared();
+        if dn > p.d2 {
+            p.going = false;
+            return;
+        }
+        p.u = un;
+        p.jet = jn;
+        p.d2 = dn;
     }
 
     /// See [`RationalCubic::refine_projection`](crate::curve::RationalCubic::refine_projection); Newton stops at steps shorter than
@@ -249,6 +251,14 @@ impl PowerCubic {
         }
         (u, dist2.sqrt())
     }
+}
+
+/// Where [`PowerCubic::project_quick_distance`] stands between its Newton steps.
+struct QuickProjection {
+    u: f64,
+    jet: CurveJet,
+    d2: f64,
+    going: bool,
 }
 
 #[cfg(test)]
