@@ -5,6 +5,7 @@
 //! PNG is decoded straight from its file.
 
 use super::frames;
+use super::grey_png::{decode_counted, ByteCounts, CountedGrey};
 use crate::error::{Error, Result};
 use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
 use std::path::Path;
@@ -84,7 +85,8 @@ fn available_memory() -> Option<u64> {
 
 /// An image file, decoded already or read whole (see [`open_image`]).
 pub(super) enum Opened {
-    Decoded(DynamicImage),
+    /// With the counts of its levels when it was decoded by `grey_png`.
+    Decoded(DynamicImage, Option<ByteCounts>),
     Bytes(Vec<u8>),
 }
 
@@ -106,8 +108,8 @@ pub(super) fn open_image(path: &Path, opts: Request) -> Result<Opened> {
     let mut file = std::fs::File::open(path).map_err(read_error)?;
     let len = file.metadata().map(|m| m.len()).ok();
     if opts.frame == 0 && len.is_some_and(|n| n >= STREAM_PNG_BYTES) {
-        if let Some(img) = decode_png_file(&mut file, path, opts)? {
-            return Ok(Opened::Decoded(img));
+        if let Some((img, counts)) = decode_png_file(&mut file, path, opts)? {
+            return Ok(Opened::Decoded(img, counts));
         }
         file.rewind().map_err(read_error)?;
     }
@@ -120,13 +122,14 @@ pub(super) fn open_image(path: &Path, opts: Request) -> Result<Opened> {
     Ok(Opened::Bytes(bytes))
 }
 
-/// The still PNG image in `file` (see [`open_image`]); `None` when the file is not a PNG
-/// or is an animated one, which [`decode_bytes`] decodes from its bytes.
+/// The still PNG image in `file` (see [`open_image`]), with its levels' counts when it is
+/// a large 8-bit grey one ([`decode_counted_png`]); `None` when the file is not a PNG or
+/// is an animated one, which [`decode_bytes`] decodes from its bytes.
 fn decode_png_file(
     file: &mut std::fs::File,
     path: &Path,
     opts: Request,
-) -> Result<Option<DynamicImage>> {
+) -> Result<Option<(DynamicImage, Option<ByteCounts>)>> {
     use image::codecs::png::PngDecoder;
     use std::io::{BufReader, Read, Seek};
     let read_error = |source| Error::Read {
@@ -136,6 +139,13 @@ fn decode_png_file(
     let mut magic = [0u8; 8];
     if file.read_exact(&mut magic).is_err() || magic != *b"\x89PNG\r\n\x1a\n" {
         return Ok(None);
+    }
+    file.rewind().map_err(read_error)?;
+    if let Some(grey) = decode_counted_png(BufReader::with_capacity(1 << 16, &mut *file), opts)? {
+        return Ok(Some((
+            DynamicImage::ImageLuma8(grey.image),
+            Some(grey.counts),
+        )));
     }
     file.rewind().map_err(read_error)?;
     // Its chunks before the pixels say whether it is animated.
@@ -154,7 +164,23 @@ fn decode_png_file(
         image::ImageFormat::Png,
     );
     let check = |w, h, bpp| decode_check(w, h, bpp, opts);
-    decode_still(reader, decode_limits(opts), path, &check).map(Some)
+    decode_still(reader, decode_limits(opts), path, &check).map(|img| Some((img, None)))
+}
+
+/// A large 8-bit grey PNG decoded with its histogram (see `grey_png`), within the
+/// limits of `opts`; `None` for any other image, any frame but the first, and data the
+/// decoder rejects, which the `image` crate then decodes (and reports).
+pub(super) fn decode_counted_png<R: std::io::BufRead + std::io::Seek>(
+    reader: R,
+    opts: Request,
+) -> Result<Option<CountedGrey>> {
+    if opts.frame != 0 {
+        return Ok(None);
+    }
+    let max_alloc = decode_limits(opts).max_alloc.unwrap_or(u64::MAX);
+    decode_counted(reader, max_alloc, &|w, h, bpp| {
+        decode_check(w, h, bpp, opts)
+    })
 }
 
 /// The decoder's memory cap for `opts.max_pixels` (see [`decode_bytes`]).
@@ -178,7 +204,7 @@ fn decode_check(width: u32, height: u32, bpp: u64, opts: Request) -> Result<()> 
 /// Reads and decodes an image file as [`decode_bytes`] does.
 pub(crate) fn decode_file(path: &Path, opts: Request) -> Result<(DynamicImage, u32)> {
     match open_image(path, opts)? {
-        Opened::Decoded(img) => Ok((img, 1)),
+        Opened::Decoded(img, _) => Ok((img, 1)),
         Opened::Bytes(bytes) => decode_bytes(&bytes, path, opts),
     }
 }

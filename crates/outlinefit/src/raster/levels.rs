@@ -141,16 +141,20 @@ impl Levels {
         }
     }
 
+    /// [`Levels::histogram`] of 8-bit levels from their `counts` when these are given
+    /// (counted as they were decoded, see `grey_png`).
+    pub(super) fn histogram_from(&self, counts: Option<&[u64; 256]>) -> Vec<(f32, u64)> {
+        match (self, counts) {
+            (Levels::Byte(v, t), Some(c)) => {
+                debug_assert_eq!(c.iter().sum::<u64>(), v.len() as u64);
+                used(&t[..], c.iter().copied())
+            }
+            _ => self.histogram(),
+        }
+    }
+
     /// How many pixels have each coverage value: (value, count) for every level used.
     pub(super) fn histogram(&self) -> Vec<(f32, u64)> {
-        fn used(table: &[f32], counts: impl Iterator<Item = u64>) -> Vec<(f32, u64)> {
-            table
-                .iter()
-                .zip(counts)
-                .filter(|&(_, n)| n > 0)
-                .map(|(&t, n)| (t, n))
-                .collect()
-        }
         match self {
             Levels::Byte(v, t) => {
                 // A large image is counted in chunks on the thread pool; the counts are
@@ -178,6 +182,16 @@ impl Levels {
             }
         }
     }
+}
+
+/// (value, count) of every level of `table` with a nonzero count.
+fn used(table: &[f32], counts: impl Iterator<Item = u64>) -> Vec<(f32, u64)> {
+    table
+        .iter()
+        .zip(counts)
+        .filter(|&(_, n)| n > 0)
+        .map(|(&t, n)| (t, n))
+        .collect()
 }
 
 /// A class (a byte of bits) for every level of a [`Levels`], made by [`Levels::classes`].
@@ -238,7 +252,7 @@ fn byte_bands(table: &[u8]) -> Option<[(u8, u8, bool); 8]> {
 const HISTOGRAM_CHUNK: usize = 1 << 20;
 
 /// How many of `levels` have each 8-bit level.
-fn byte_counts(levels: &[u8]) -> [u64; 256] {
+pub(super) fn byte_counts(levels: &[u8]) -> [u64; 256] {
     // Four interleaved tallies: runs of one level (a page's white paper) would otherwise
     // make every increment wait for the one before it.
     let mut lanes = [[0u64; 256]; 4];

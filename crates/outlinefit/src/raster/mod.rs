@@ -46,10 +46,11 @@ use std::path::Path;
 pub(crate) mod bits;
 mod decode;
 pub(crate) mod frames;
+mod grey_png;
 mod levels;
 mod lighting;
 
-use decode::{check_dimensions, open_image, Opened};
+use decode::{check_dimensions, decode_counted_png, open_image, Opened};
 pub(crate) use decode::{decode_bytes, decode_file};
 pub use lighting::ThresholdMode;
 
@@ -300,7 +301,7 @@ impl Bitmap {
                 });
             }
         }
-        let threshold = threshold.unwrap_or_else(|| otsu_threshold(&coverage));
+        let threshold = threshold.unwrap_or_else(|| otsu_threshold(&coverage, None));
         let mut bitmap = Bitmap {
             width,
             height,
@@ -652,13 +653,14 @@ fn crossing_counts(a: &[u8], b: &[u8]) -> (u64, u64) {
 
 /// Otsu's threshold of a coverage field on a 256-bin histogram, on the [0, 1] scale, clamped
 /// to [`OTSU_MIN`, `OTSU_MAX`]. Ties (an empty range of levels between the classes) resolve
-/// to the middle of the range. A uniform field gives 0.5.
-fn otsu_threshold(coverage: &Levels) -> f64 {
+/// to the middle of the range. A uniform field gives 0.5. `counts`: the 8-bit levels'
+/// counts when they are known already ([`Levels::histogram_from`]).
+fn otsu_threshold(coverage: &Levels, counts: Option<&[u64; 256]>) -> f64 {
     // Coverage is already clamped to [0, 1].
     // (Through i32: float to u64 conversion is much slower on x86-64.)
     let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
     let mut hist = [0u64; 256];
-    for (v, n) in coverage.histogram() {
+    for (v, n) in coverage.histogram_from(counts) {
         hist[bin(v)] += n;
     }
     let total = coverage.len() as f64;
@@ -775,6 +777,18 @@ pub(crate) fn from_image(img: &DynamicImage, opts: &RasterOptions) -> Result<Bit
 /// [`from_image`], keeping an owned 8- or 16-bit grey image's pixel buffer as the bitmap's
 /// levels instead of copying it.
 fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
+    convert_counted(img, None, opts)
+}
+
+/// [`convert`] of an owned 8-bit grey image whose levels were counted as it was decoded
+/// (`counts`, see `grey_png`): Otsu's threshold takes the counts instead of counting the
+/// pixels again. The counts of any other image are ignored.
+fn convert_counted(
+    img: Cow<'_, DynamicImage>,
+    counts: Option<grey_png::ByteCounts>,
+    opts: &RasterOptions,
+) -> Result<Bitmap> {
+    let counts = counts.filter(|_| matches!(img, Cow::Owned(DynamicImage::ImageLuma8(_))));
     let (width, height) = img.dimensions();
     check_dimensions(width, height, opts.max_pixels)?;
     let pixels = u64::from(width) * u64::from(height);
@@ -857,13 +871,19 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
         ThresholdMode::Local => Some(lighting::PaperMap::new(&coverage, w, h)),
         ThresholdMode::Auto => Some(lighting::PaperMap::new(&coverage, w, h)).filter(|map| {
             let chroma = colour.as_deref().map(|img| map.block_chroma(img));
-            let global = threshold.unwrap_or_else(|| *otsu.insert(otsu_threshold(&coverage)));
+            let global = threshold
+                .unwrap_or_else(|| *otsu.insert(otsu_threshold(&coverage, counts.as_deref())));
             map.is_uneven(global, chroma.as_deref())
         }),
     };
-    // Without a paper map the coverage is as it was: Otsu's level is the one just found.
+    // Without a paper map the coverage is as it was: Otsu's level is the one just found,
+    // or the one of the counts made while decoding (otherwise `Bitmap::build` counts).
     let threshold = if map.is_none() {
-        threshold.or(otsu)
+        threshold.or(otsu).or_else(|| {
+            counts
+                .as_deref()
+                .map(|c| otsu_threshold(&coverage, Some(c)))
+        })
     } else {
         threshold
     };
@@ -883,8 +903,8 @@ fn convert(img: Cow<'_, DynamicImage>, opts: &RasterOptions) -> Result<Bitmap> {
 /// [`Bitmap::load`].
 pub(crate) fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
     match open_image(path, opts.decoding())? {
-        Opened::Decoded(img) => {
-            let mut bitmap = convert(Cow::Owned(img), opts)?;
+        Opened::Decoded(img, counts) => {
+            let mut bitmap = convert_counted(Cow::Owned(img), counts, opts)?;
             bitmap.frame = opts.frame;
             bitmap.frames = 1;
             Ok(bitmap)
@@ -895,8 +915,16 @@ pub(crate) fn load(path: &Path, opts: &RasterOptions) -> Result<Bitmap> {
 
 /// [`Bitmap::load_bytes`].
 pub(crate) fn load_bytes(bytes: &[u8], name: &Path, opts: &RasterOptions) -> Result<Bitmap> {
-    let (img, frames) = decode_bytes(bytes, name, opts.decoding())?;
-    let mut bitmap = convert(Cow::Owned(img), opts)?;
+    let counted = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+        decode_counted_png(std::io::Cursor::new(bytes), opts.decoding())?
+    } else {
+        None
+    };
+    let ((img, frames), counts) = match counted {
+        Some(grey) => ((DynamicImage::ImageLuma8(grey.image), 1), Some(grey.counts)),
+        None => (decode_bytes(bytes, name, opts.decoding())?, None),
+    };
+    let mut bitmap = convert_counted(Cow::Owned(img), counts, opts)?;
     bitmap.frame = opts.frame;
     bitmap.frames = frames;
     Ok(bitmap)
