@@ -141,57 +141,66 @@ impl Levels {
         }
     }
 
-    /// [`Levels::histogram`] of 8-bit levels from their `counts` when these are given
-    /// (counted as they were decoded, see `grey_png`).
-    pub(super) fn histogram_from(&self, counts: Option<&[u64; 256]>) -> Vec<(f32, u64)> {
-        match (self, counts) {
-            (Levels::Byte(v, t), Some(c)) => {
-                debug_assert_eq!(c.iter().sum::<u64>(), v.len() as u64);
-                used(&t[..], c.iter().copied())
-            }
-            _ => self.histogram(),
-        }
-    }
-
-    /// How many pixels have each coverage value: (value, count) for every level used.
-    pub(super) fn histogram(&self) -> Vec<(f32, u64)> {
+    /// How many pixels fall in each of 256 bins, `bin` (below 256) of a pixel's coverage
+    /// deciding its bin. `counts`: the 8-bit levels' counts when they are known already
+    /// (counted as they were decoded, see `grey_png`). A large image is counted in chunks
+    /// on the thread pool; the counts are whole numbers, so their sums are the same on any
+    /// number of threads.
+    pub(super) fn binned(
+        &self,
+        bin: impl Fn(f32) -> usize,
+        counts: Option<&[u64; 256]>,
+    ) -> [u64; 256] {
+        use rayon::prelude::*;
+        let add = |mut a: [u64; 256], b: [u64; 256]| {
+            a.iter_mut().zip(b).for_each(|(a, b)| *a += b);
+            a
+        };
+        let mut out = [0u64; 256];
         match self {
             Levels::Byte(v, t) => {
-                // A large image is counted in chunks on the thread pool; the counts are
-                // whole numbers, so their sum is the same on any number of threads.
-                let counts = if v.len() >= 2 * HISTOGRAM_CHUNK {
-                    use rayon::prelude::*;
-                    v.par_chunks(HISTOGRAM_CHUNK).map(byte_counts).reduce(
-                        || [0; 256],
-                        |mut a, b| {
-                            a.iter_mut().zip(b).for_each(|(a, b)| *a += b);
-                            a
-                        },
-                    )
-                } else {
-                    byte_counts(v)
+                let counts = match counts {
+                    Some(c) => {
+                        debug_assert_eq!(c.iter().sum::<u64>(), v.len() as u64);
+                        *c
+                    }
+                    None if v.len() >= 2 * HISTOGRAM_CHUNK => v
+                        .par_chunks(HISTOGRAM_CHUNK)
+                        .map(byte_counts)
+                        .reduce(|| [0; 256], add),
+                    None => byte_counts(v),
                 };
-                used(&t[..], counts.into_iter())
+                for (&value, n) in t.iter().zip(counts) {
+                    out[bin(value)] += n;
+                }
             }
             Levels::Word(v, t) => {
-                let mut counts = vec![0u64; t.len()];
-                for &l in v {
-                    counts[usize::from(l)] += 1;
-                }
-                used(&t[..], counts.into_iter())
+                // Each 16-bit level's bin once, then the bins counted as bytes are.
+                let bins: Vec<u8> = t.iter().map(|&value| bin(value) as u8).collect();
+                let count = |chunk: &[u16]| {
+                    let mut lanes = [[0u64; 256]; 4];
+                    let mut quads = chunk.chunks_exact(4);
+                    for quad in &mut quads {
+                        for (lane, &l) in lanes.iter_mut().zip(quad) {
+                            lane[usize::from(bins[usize::from(l)])] += 1;
+                        }
+                    }
+                    for &l in quads.remainder() {
+                        lanes[0][usize::from(bins[usize::from(l)])] += 1;
+                    }
+                    lanes.into_iter().fold([0; 256], add)
+                };
+                out = if v.len() >= 2 * HISTOGRAM_CHUNK {
+                    v.par_chunks(HISTOGRAM_CHUNK)
+                        .map(count)
+                        .reduce(|| [0; 256], add)
+                } else {
+                    count(v)
+                };
             }
         }
+        out
     }
-}
-
-/// (value, count) of every level of `table` with a nonzero count.
-fn used(table: &[f32], counts: impl Iterator<Item = u64>) -> Vec<(f32, u64)> {
-    table
-        .iter()
-        .zip(counts)
-        .filter(|&(_, n)| n > 0)
-        .map(|(&t, n)| (t, n))
-        .collect()
 }
 
 /// A class (a byte of bits) for every level of a [`Levels`], made by [`Levels::classes`].
@@ -333,11 +342,17 @@ mod tests {
             plain[usize::from(l)] += 1;
         }
         let levels = Levels::bytes(pixels, |l| f32::from(l) / 255.0);
-        let counted = levels.histogram();
-        assert_eq!(counted.len(), 251);
-        for (v, n) in counted {
-            assert_eq!(n, plain[(v * 255.0).round() as usize], "level {v}");
+        let counted = levels.binned(|v| (v * 255.0).round() as usize, None);
+        assert_eq!(counted, plain);
+        // 16-bit levels, in chunks too, binned through their values.
+        let words: Vec<u16> = (0..n).map(|i| ((i * 7919) % 65_521) as u16).collect();
+        let mut plain = [0u64; 256];
+        for &l in &words {
+            plain[usize::from(l >> 8)] += 1;
         }
+        let levels = Levels::quantised(words);
+        let bin = |v: f32| ((v * 65535.0).round() as usize) >> 8;
+        assert_eq!(levels.binned(bin, None), plain);
     }
 
     #[test]
@@ -390,9 +405,15 @@ mod tests {
     #[test]
     fn histogram_counts_every_pixel_once() {
         let levels = Levels::bytes(vec![3, 3, 7, 200, 3], |v| f32::from(v) / 255.0);
-        let h = levels.histogram();
-        assert_eq!(h.iter().map(|&(_, n)| n).sum::<u64>(), 5);
-        assert_eq!(h[0], (3.0 / 255.0, 3));
-        assert_eq!(h.len(), 3);
+        let bin = |v: f32| (v * 255.0).round() as usize;
+        let h = levels.binned(bin, None);
+        assert_eq!(h.iter().sum::<u64>(), 5);
+        assert_eq!((h[3], h[7], h[200]), (3, 1, 1));
+        // Counts given for the bytes are taken as they are.
+        let mut given = [0u64; 256];
+        given[3] = 2;
+        given[9] = 3;
+        let h = levels.binned(bin, Some(&given));
+        assert_eq!((h[3], h[9], h[7]), (2, 3, 0));
     }
 }

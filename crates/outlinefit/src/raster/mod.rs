@@ -654,15 +654,12 @@ fn crossing_counts(a: &[u8], b: &[u8]) -> (u64, u64) {
 /// Otsu's threshold of a coverage field on a 256-bin histogram, on the [0, 1] scale, clamped
 /// to [`OTSU_MIN`, `OTSU_MAX`]. Ties (an empty range of levels between the classes) resolve
 /// to the middle of the range. A uniform field gives 0.5. `counts`: the 8-bit levels'
-/// counts when they are known already ([`Levels::histogram_from`]).
+/// counts when they are known already ([`Levels::binned`]).
 fn otsu_threshold(coverage: &Levels, counts: Option<&[u64; 256]>) -> f64 {
     // Coverage is already clamped to [0, 1].
     // (Through i32: float to u64 conversion is much slower on x86-64.)
     let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
-    let mut hist = [0u64; 256];
-    for (v, n) in coverage.histogram_from(counts) {
-        hist[bin(v)] += n;
-    }
+    let hist = coverage.binned(bin, counts);
     let total = coverage.len() as f64;
     let sum_all: f64 = hist
         .iter()
