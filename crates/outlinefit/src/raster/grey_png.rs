@@ -21,8 +21,8 @@ use image::GrayImage;
 use std::io::{BufRead, Seek};
 
 /// Fewest pixels for which [`decode_counted`] decodes: below it a helper thread costs
-/// more than counting after decoding (the histogram is then counted on one thread in
-/// well under a millisecond).
+/// about what it saves (counting the histogram after decoding takes about a millisecond
+/// at this size, and smaller images are counted on one thread).
 pub(super) const COUNTED_PIXELS: u64 = 1 << 21;
 
 /// Bytes of rows handed between the decoder and the helper thread at a time.
@@ -85,7 +85,7 @@ pub(super) fn decode_counted<R: BufRead + Seek>(
         let (to_decoder, fresh) = std::sync::mpsc::channel::<&mut [u8]>();
         let (to_counter, decoded) = std::sync::mpsc::channel::<&[u8]>();
         let helper = std::thread::Builder::new()
-            .name("outlinefit-histogram".into())
+            .name("outlinefit-png".into())
             .spawn_scoped(scope, move || {
                 // The kernel maps and clears a fresh page at its first write: done here
                 // ahead of the decoder, which would otherwise stop at every page.
