@@ -177,19 +177,7 @@ impl Levels {
             Levels::Word(v, t) => {
                 // Each 16-bit level's bin once, then the bins counted as bytes are.
                 let bins: Vec<u8> = t.iter().map(|&value| bin(value) as u8).collect();
-                let count = |chunk: &[u16]| {
-                    let mut lanes = [[0u64; 256]; 4];
-                    let mut quads = chunk.chunks_exact(4);
-                    for quad in &mut quads {
-                        for (lane, &l) in lanes.iter_mut().zip(quad) {
-                            lane[usize::from(bins[usize::from(l)])] += 1;
-                        }
-                    }
-                    for &l in quads.remainder() {
-                        lanes[0][usize::from(bins[usize::from(l)])] += 1;
-                    }
-                    lanes.into_iter().fold([0; 256], add)
-                };
+                let count = |chunk: &[u16]| tally(chunk, |l| usize::from(bins[usize::from(l)]));
                 out = if v.len() >= 2 * HISTOGRAM_CHUNK {
                     v.par_chunks(HISTOGRAM_CHUNK)
                         .map(count)
@@ -262,17 +250,22 @@ const HISTOGRAM_CHUNK: usize = 1 << 20;
 
 /// How many of `levels` have each 8-bit level.
 pub(super) fn byte_counts(levels: &[u8]) -> [u64; 256] {
+    tally(levels, usize::from)
+}
+
+/// How many of `levels` fall in each of 256 bins, `bin` (below 256) giving a level's.
+fn tally<L: Copy>(levels: &[L], bin: impl Fn(L) -> usize) -> [u64; 256] {
     // Four interleaved tallies: runs of one level (a page's white paper) would otherwise
     // make every increment wait for the one before it.
     let mut lanes = [[0u64; 256]; 4];
     let mut quads = levels.chunks_exact(4);
     for quad in &mut quads {
         for (lane, &l) in lanes.iter_mut().zip(quad) {
-            lane[usize::from(l)] += 1;
+            lane[bin(l)] += 1;
         }
     }
     for &l in quads.remainder() {
-        lanes[0][usize::from(l)] += 1;
+        lanes[0][bin(l)] += 1;
     }
     std::array::from_fn(|k| lanes.iter().map(|lane| lane[k]).sum())
 }
