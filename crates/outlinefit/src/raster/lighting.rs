@@ -77,6 +77,115 @@ fn block_size(longest: usize) -> usize {
     (longest / 16).clamp(16, 128)
 }
 
+/// The blocks of an image's paper map and the grid of samples in them.
+struct Grid {
+    /// Side of a block (px), [`block_size`].
+    block: usize,
+    /// Blocks across and down.
+    cols: usize,
+    rows: usize,
+    /// Every `step`-th pixel of every `step`-th row is a sample: 256 or more per block, a
+    /// 64th of a large page's pixels.
+    step: usize,
+}
+
+impl Grid {
+    fn of(width: usize, height: usize) -> Grid {
+        let block = block_size(width.max(height));
+        Grid {
+            block,
+            cols: width.div_ceil(block),
+            rows: height.div_ceil(block),
+            step: (block / 16).max(1),
+        }
+    }
+
+    /// The columns `start..end` of block column `bx`, whose every `step`-th from `start`
+    /// (the multiples of `step`) is sampled.
+    fn columns(block: usize, step: usize, bx: usize, width: usize) -> (usize, usize) {
+        let end = ((bx + 1) * block).min(width);
+        (((bx * block).div_ceil(step) * step).min(end), end)
+    }
+}
+
+/// The 256-bin histogram's bin of a coverage.
+fn bin(v: f32) -> usize {
+    ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize
+}
+
+/// The rank (1-based) of a block's paper level among its `samples`: the level is the
+/// first bin at which the count from the lightest bin reaches it.
+fn paper_rank(samples: u32) -> u32 {
+    (f64::from(samples) * PAPER_PERCENTILE).ceil().max(1.0) as u32
+}
+
+/// True when every block's paper level, as [`PaperMap::new`] finds it, lies below
+/// `threshold`: then no block is dark paper, [`PaperMap::is_uneven`] is false at that
+/// threshold whatever the rest of the map (the 3 × 3 median picks one of the levels),
+/// and the map is not needed. A block's level lies below the first bin that is dark
+/// paper exactly when at least [`paper_rank`] of its samples lie in lighter bins: one
+/// count per block over the same samples, instead of a histogram. False as soon as one
+/// block falls short (the map then decides); a clean page, the common case, is light
+/// everywhere.
+pub(super) fn paper_is_light(
+    coverage: &Levels,
+    width: usize,
+    height: usize,
+    threshold: f64,
+) -> bool {
+    let t = threshold as f32;
+    // The first bin whose level `is_uneven` counts as dark (level / 255 ≥ t).
+    let Some(dark) = (0..256usize).find(|&b| b as f32 / 255.0 >= t) else {
+        return true;
+    };
+    let Grid {
+        block,
+        cols,
+        rows,
+        step,
+    } = Grid::of(width, height);
+    let (mut light, mut samples) = (vec![0u32; cols], vec![0u32; cols]);
+    // 8-bit levels: whether each of the 256 levels is in a light bin, once.
+    let light_bytes = match coverage {
+        Levels::Byte(v, t) => Some((
+            v,
+            std::array::from_fn::<u8, 256, _>(|l| u8::from(bin(t[l]) < dark)),
+        )),
+        Levels::Word(..) => None,
+    };
+    let mut row = vec![0.0f32; if light_bytes.is_some() { 0 } else { width }];
+    for by in 0..rows {
+        light.fill(0);
+        samples.fill(0);
+        for y in (by * block..((by + 1) * block).min(height)).step_by(step) {
+            match &light_bytes {
+                Some((levels, is_light)) => {
+                    let line = &levels[y * width..(y + 1) * width];
+                    for (bx, (l, n)) in light.iter_mut().zip(&mut samples).enumerate() {
+                        let (start, end) = Grid::columns(block, step, bx, width);
+                        let run = line[start..end].iter().step_by(step);
+                        *n += run.len() as u32;
+                        *l += run
+                            .map(|&v| u32::from(is_light[usize::from(v)]))
+                            .sum::<u32>();
+                    }
+                }
+                None => {
+                    coverage.read(y * width, &mut row);
+                    for x in (0..width).step_by(step) {
+                        samples[x / block] += 1;
+                        light[x / block] += u32::from(bin(row[x]) < dark);
+                    }
+                }
+            }
+        }
+        if light.iter().zip(&samples).any(|(&l, &n)| l < paper_rank(n)) {
+            return false;
+        }
+    }
+    true
+}
+
 /// The paper's coverage per block, row-major over a `cols × rows` grid of `block` px.
 pub(super) struct PaperMap {
     block: usize,
@@ -91,13 +200,16 @@ pub(super) struct PaperMap {
 impl PaperMap {
     /// Estimates the paper level of every block of a `width × height` coverage field.
     pub(super) fn new(coverage: &Levels, width: usize, height: usize) -> PaperMap {
-        let block = block_size(width.max(height));
-        let (cols, rows) = (width.div_ceil(block), height.div_ceil(block));
+        let Grid {
+            block,
+            cols,
+            rows,
+            step,
+        } = Grid::of(width, height);
         let mut paper = Vec::with_capacity(cols * rows);
         let mut ink = Vec::with_capacity(cols * rows);
         // One 256-bin histogram per block of the current row of blocks.
         let mut hist = vec![[0u32; 256]; cols];
-        let bin = |v: f32| ((v * 255.0 + 0.5) as i32).clamp(0, 255) as usize;
         // 8-bit levels: the bin of each of the 256 levels once, then one table look-up per
         // sample instead of converting every pixel of the row (the same bins).
         let byte_bins = match coverage {
@@ -106,9 +218,6 @@ impl PaperMap {
         };
         // 16-bit levels read each sampled row whole.
         let mut row = vec![0.0f32; if byte_bins.is_some() { 0 } else { width }];
-        // Every `step`-th pixel of every `step`-th row: 256 or more samples per block, a
-        // 64th of a large page's pixels.
-        let step = (block / 16).max(1);
         for by in 0..rows {
             hist.iter_mut().for_each(|h| *h = [0; 256]);
             let (y0, y1) = (by * block, ((by + 1) * block).min(height));
@@ -117,9 +226,7 @@ impl PaperMap {
                     Some((levels, bins)) => {
                         let line = &levels[y * width..(y + 1) * width];
                         for (bx, h) in hist.iter_mut().enumerate() {
-                            // The samples of this block: the multiples of `step` in it.
-                            let end = ((bx + 1) * block).min(width);
-                            let start = ((bx * block).div_ceil(step) * step).min(end);
+                            let (start, end) = Grid::columns(block, step, bx, width);
                             // Counted by runs of one level: paper is mostly one level,
                             // and adding one to the same bin again and again waits for
                             // each addition to land before the next. A stretch of one
@@ -154,8 +261,7 @@ impl PaperMap {
                 }
             }
             for h in &hist {
-                let total: u32 = h.iter().sum();
-                let target = (f64::from(total) * PAPER_PERCENTILE).ceil().max(1.0) as u32;
+                let target = paper_rank(h.iter().sum());
                 let mut seen = 0;
                 let level = h
                     .iter()
@@ -394,6 +500,77 @@ mod tests {
             assert_eq!(a.paper, b.paper, "{w} × {h}");
             assert_eq!(a.ink, b.ink, "{w} × {h}");
             assert!(a.ink.iter().any(|&i| i) && !a.ink.iter().all(|&i| i));
+        }
+    }
+
+    /// [`paper_is_light`] answers for the map without building it: where it says light,
+    /// every block of the map lies below the threshold and the page is not uneven; it
+    /// says so on a clean page, not on a lit one; on a page of one level it is exactly
+    /// "that level lies below the threshold", bin boundaries included; 8-bit and 16-bit
+    /// levels of the same coverage agree.
+    #[test]
+    fn paper_that_is_light_everywhere_needs_no_map() {
+        let disk = |w: usize, h: usize| -> Vec<f32> {
+            (0..w * h)
+                .map(|i| {
+                    let (x, y) = (
+                        (i % w) as f32 - w as f32 / 2.0,
+                        (i / w) as f32 - h as f32 / 2.0,
+                    );
+                    if x * x + y * y < (h as f32 / 3.0).powi(2) {
+                        0.9
+                    } else {
+                        0.04
+                    }
+                })
+                .collect()
+        };
+        let pages = [
+            (lit_page(400, 300, 0.0, 0.7), 400, 300),
+            (lit_page(1601, 700, 0.05, 0.6), 1601, 700),
+            (lit_page(203, 130, 0.05, 0.15), 203, 130),
+            (disk(176, 251), 176, 251),
+            (disk(1700, 900), 1700, 900),
+        ];
+        for (page, w, h) in &pages {
+            let (w, h) = (*w, *h);
+            let bytes: Vec<u8> = page.iter().map(|&c| (c * 255.0).round() as u8).collect();
+            let value = |b: u8| f32::from(b) / 255.0;
+            let as_words = Levels::words(bytes.iter().map(|&b| u16::from(b)).collect(), |v| {
+                value(v as u8)
+            });
+            let as_bytes = Levels::bytes(bytes, value);
+            let map = PaperMap::new(&as_words, w, h);
+            for k in 1..512 {
+                let t = f64::from(k) / 511.0;
+                let light = paper_is_light(&as_words, w, h, t);
+                assert_eq!(
+                    light,
+                    paper_is_light(&as_bytes, w, h, t),
+                    "{w} × {h} at {t}"
+                );
+                if light {
+                    assert!(map.paper.iter().all(|&p| p < t as f32), "{w} × {h} at {t}");
+                    assert!(!map.is_uneven(t, None), "{w} × {h} at {t}");
+                }
+            }
+        }
+        assert!(!paper_is_light(&levels_of(&pages[0].0), 400, 300, 0.5));
+        assert!(paper_is_light(&levels_of(&pages[2].0), 203, 130, 0.5));
+        // Blocks inside the disk are all ink: their "paper" is dark, and the map decides.
+        assert!(!paper_is_light(&levels_of(&pages[3].0), 176, 251, 0.5));
+        for level in [0u8, 1, 37, 128, 254, 255] {
+            let (w, h) = (97, 61);
+            let cov = Levels::bytes(vec![level; w * h], |b| f32::from(b) / 255.0);
+            let paper = f32::from(level) / 255.0;
+            for t in [paper - 1e-4, paper, paper + 1e-4, paper + 0.5 / 255.0] {
+                let t = f64::from(t);
+                assert_eq!(
+                    paper_is_light(&cov, w, h, t),
+                    paper < t as f32,
+                    "{level} at {t}"
+                );
+            }
         }
     }
 

@@ -867,12 +867,17 @@ fn convert_counted(
         _ if from_alpha => None,
         ThresholdMode::Global => None,
         ThresholdMode::Local => Some(lighting::PaperMap::new(&coverage, w, h)),
-        ThresholdMode::Auto => Some(lighting::PaperMap::new(&coverage, w, h)).filter(|map| {
-            let chroma = colour.as_deref().map(|img| map.block_chroma(img));
+        ThresholdMode::Auto => {
             let global = threshold
                 .unwrap_or_else(|| *otsu.insert(otsu_threshold(&coverage, counts.as_deref())));
-            map.is_uneven(global, chroma.as_deref())
-        }),
+            // A page whose paper is light everywhere needs no map (the common case).
+            (!lighting::paper_is_light(&coverage, w, h, global))
+                .then(|| lighting::PaperMap::new(&coverage, w, h))
+                .filter(|map| {
+                    let chroma = colour.as_deref().map(|img| map.block_chroma(img));
+                    map.is_uneven(global, chroma.as_deref())
+                })
+        }
     };
     // Without a paper map the coverage is as it was: Otsu's level is the one just found,
     // or the one of the counts made while decoding (otherwise `Bitmap::build` counts).
