@@ -119,6 +119,61 @@ fn paper_rank(samples: u32) -> u32 {
     (f64::from(samples) * PAPER_PERCENTILE).ceil().max(1.0) as u32
 }
 
+/// The histogram of one block's samples over the 256 bins, with the range of bins it
+/// holds: reading the paper level and the darkest bin, and clearing it for the next row
+/// of blocks, then touch only that range (a block of clean paper holds a bin or two).
+#[derive(Clone)]
+struct Tally {
+    counts: [u32; 256],
+    samples: u32,
+    lightest: usize,
+    darkest: usize,
+}
+
+impl Default for Tally {
+    fn default() -> Tally {
+        Tally {
+            counts: [0; 256],
+            samples: 0,
+            lightest: usize::MAX,
+            darkest: 0,
+        }
+    }
+}
+
+impl Tally {
+    #[inline]
+    fn add(&mut self, bin: usize, n: u32) {
+        self.counts[bin] += n;
+        self.samples += n;
+        self.lightest = self.lightest.min(bin);
+        self.darkest = self.darkest.max(bin);
+    }
+
+    /// The paper's bin (the first at which the count from the lightest reaches
+    /// [`paper_rank`]) and the darkest bin holding a sample, both 0 without samples;
+    /// the tally is empty afterwards.
+    fn paper_and_darkest(&mut self) -> (usize, usize) {
+        if self.samples == 0 {
+            return (0, 0);
+        }
+        let target = paper_rank(self.samples);
+        let range = self.lightest..=self.darkest;
+        let mut seen = 0;
+        let paper = range
+            .clone()
+            .find(|&b| {
+                seen += self.counts[b];
+                seen >= target
+            })
+            .unwrap_or(self.darkest);
+        let darkest = self.darkest;
+        self.counts[range].fill(0);
+        (self.samples, self.lightest, self.darkest) = (0, usize::MAX, 0);
+        (paper, darkest)
+    }
+}
+
 /// True when every block's paper level, as [`PaperMap::new`] finds it, lies below
 /// `threshold`: then no block is dark paper, [`PaperMap::is_uneven`] is false at that
 /// threshold whatever the rest of the map (the 3 × 3 median picks one of the levels),
@@ -209,7 +264,7 @@ impl PaperMap {
         let mut paper = Vec::with_capacity(cols * rows);
         let mut ink = Vec::with_capacity(cols * rows);
         // One 256-bin histogram per block of the current row of blocks.
-        let mut hist = vec![[0u32; 256]; cols];
+        let mut hist = vec![Tally::default(); cols];
         // 8-bit levels: the bin of each of the 256 levels once, then one table look-up per
         // sample instead of converting every pixel of the row (the same bins).
         let byte_bins = match coverage {
@@ -219,12 +274,12 @@ impl PaperMap {
         // 16-bit levels read each sampled row whole.
         let mut row = vec![0.0f32; if byte_bins.is_some() { 0 } else { width }];
         for by in 0..rows {
-            hist.iter_mut().for_each(|h| *h = [0; 256]);
             let (y0, y1) = (by * block, ((by + 1) * block).min(height));
             for y in (y0..y1).step_by(step) {
                 match &byte_bins {
                     Some((levels, bins)) => {
                         let line = &levels[y * width..(y + 1) * width];
+                        let bin_of = |l: u8| usize::from(bins[usize::from(l)]);
                         for (bx, h) in hist.iter_mut().enumerate() {
                             let (start, end) = Grid::columns(block, step, bx, width);
                             // Counted by runs of one level: paper is mostly one level,
@@ -235,7 +290,7 @@ impl PaperMap {
                                 continue;
                             };
                             if step == 1 && line[start..end].iter().all(|&l| l == first) {
-                                h[usize::from(bins[usize::from(first)])] += (end - start) as u32;
+                                h.add(bin_of(first), (end - start) as u32);
                                 continue;
                             }
                             let mut samples = line[start..end].iter().step_by(step);
@@ -245,32 +300,23 @@ impl PaperMap {
                                 if next == level {
                                     run += 1;
                                 } else {
-                                    h[usize::from(bins[usize::from(level)])] += run;
+                                    h.add(bin_of(level), run);
                                     (level, run) = (next, 1);
                                 }
                             }
-                            h[usize::from(bins[usize::from(level)])] += run;
+                            h.add(bin_of(level), run);
                         }
                     }
                     None => {
                         coverage.read(y * width, &mut row);
                         for x in (0..width).step_by(step) {
-                            hist[x / block][bin(row[x])] += 1;
+                            hist[x / block].add(bin(row[x]), 1);
                         }
                     }
                 }
             }
-            for h in &hist {
-                let target = paper_rank(h.iter().sum());
-                let mut seen = 0;
-                let level = h
-                    .iter()
-                    .position(|&n| {
-                        seen += n;
-                        seen >= target
-                    })
-                    .unwrap_or(0);
-                let darkest = h.iter().rposition(|&n| n > 0).unwrap_or(0);
+            for h in &mut hist {
+                let (level, darkest) = h.paper_and_darkest();
                 paper.push(level as f32 / 255.0);
                 ink.push((darkest - level) as f32 / 255.0 >= INK_CONTRAST);
             }
@@ -500,6 +546,69 @@ mod tests {
             assert_eq!(a.paper, b.paper, "{w} × {h}");
             assert_eq!(a.ink, b.ink, "{w} × {h}");
             assert!(a.ink.iter().any(|&i| i) && !a.ink.iter().all(|&i| i));
+        }
+    }
+
+    /// The map's levels are those of the module docs: per block, the [`paper_rank`]-th
+    /// lightest of its samples' bins (sorted here) and whether its darkest sample is
+    /// [`INK_CONTRAST`] darker, then the 3 × 3 median; on lit pages, clean paper with
+    /// ink, and blocks short of a sampling step.
+    #[test]
+    fn the_paper_levels_are_the_rank_of_each_blocks_sorted_samples() {
+        let bars = |w: usize, h: usize| -> Vec<f32> {
+            (0..w * h)
+                .map(|i| {
+                    if (i % w) / 7 == 3 && i / w > 5 {
+                        0.9
+                    } else {
+                        0.02
+                    }
+                })
+                .collect()
+        };
+        for (page, w, h) in [
+            (lit_page(1700, 900, 0.05, 0.6), 1700, 900),
+            (lit_page(203, 130, 0.0, 0.7), 203, 130),
+            (bars(333, 250), 333, 250),
+            (bars(64, 64), 64, 64),
+        ] {
+            let cov = levels_of(&page);
+            let map = PaperMap::new(&cov, w, h);
+            let Grid {
+                block,
+                cols,
+                rows,
+                step,
+            } = Grid::of(w, h);
+            let (mut paper, mut ink) = (Vec::new(), Vec::new());
+            let mut row = vec![0.0f32; w];
+            for by in 0..rows {
+                for bx in 0..cols {
+                    let (start, end) = Grid::columns(block, step, bx, w);
+                    let mut bins = Vec::new();
+                    for y in (by * block..((by + 1) * block).min(h)).step_by(step) {
+                        cov.read(y * w, &mut row);
+                        bins.extend(row[start..end].iter().step_by(step).map(|&v| bin(v)));
+                    }
+                    bins.sort_unstable();
+                    let (level, darkest) = match bins.last() {
+                        Some(&last) => (bins[paper_rank(bins.len() as u32) as usize - 1], last),
+                        None => (0, 0),
+                    };
+                    paper.push(level as f32 / 255.0);
+                    ink.push((darkest - level) as f32 / 255.0 >= INK_CONTRAST);
+                }
+            }
+            let mut want = PaperMap {
+                block,
+                cols,
+                rows,
+                paper,
+                ink,
+            };
+            want.median_filter();
+            assert_eq!(map.paper, want.paper, "{w} × {h}");
+            assert_eq!(map.ink, want.ink, "{w} × {h}");
         }
     }
 
