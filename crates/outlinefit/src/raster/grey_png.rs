@@ -1,23 +1,30 @@
-//! A large 8-bit grey PNG decoded row by row, with its histogram counted on a second
-//! thread while the rows arrive.
+//! A large 8-bit grey PNG decoded on two cores, with its histogram counted while the
+//! rows arrive.
 //!
-//! Decoding a PNG is one stream (inflating, then undoing each row's filter against the
-//! row above), so it runs on one core while the other waits: on the 600 dpi scan of
-//! `make_scan.py` about 0.1 s, on the 4096 px horse 30 ms. The threshold needs the
-//! histogram of every pixel, which used to be a pass of its own once decoding ended.
-//! Here a helper thread works beside the decoder: it first writes to every page of the
-//! fresh pixel buffer, band by band ahead of the decoder, so that the kernel maps and
-//! clears them there (on the 4096 px horse 3 400 of its 6 400 page faults, which the
-//! decoder used to take one by one), then counts each band the decoder hands back, so the
-//! counts are ready when the last row is. The pixels are the ones the `image`
-//! crate's decoder gives (the same `png` decoder with the same transformation); images
-//! this path does not cover (other colour types or depths, interlaced, with a
-//! transparent level or an EXIF orientation, small) and any decoding error go through
-//! the `image` crate as before, so errors read the same.
+//! Decoding a PNG is two chained halves: inflating the compressed stream, then undoing
+//! each row's filter against the row above (Paeth's predictor waits on the pixel before
+//! it, byte after byte). The `png` crate does both on one core while the other waits:
+//! on the 600 dpi scan of `make_scan.py` about 0.09 s, 67 ms of it inflating; on the
+//! 4096 px horse about 30 ms, 20 of them unfiltering. Here the `png` crate's streaming
+//! decoder reads the chunks (checking their CRCs) and inflates on this thread, which
+//! copies each filtered row into the pixel buffer; a helper thread undoes the filters
+//! band by band as they come ([`unfilter`], the specification's five filters). The
+//! threshold needs the histogram of every pixel, which used to be a pass of its own
+//! once decoding ended: each unfiltered band is counted by whichever thread has time.
+//! Where inflating is the longer half (many compressed bytes per pixel, a scanned page),
+//! a third thread writes to every fresh page of the buffer ahead of the decoding thread,
+//! so that the kernel maps and clears them there (on the scan 8 500 page faults).
+//!
+//! The pixels are the ones the `image` crate's decoder gives (tests compare them for
+//! every filter type); images this path does not cover (other colour types or depths,
+//! interlaced, with a transparent level, an EXIF orientation or an animation, small)
+//! and any decoding error go through the `image` crate as before, so errors read the
+//! same.
 
 use super::levels::byte_counts;
 use crate::error::Result;
 use image::GrayImage;
+use png::Decoded;
 use std::io::{BufRead, Seek};
 
 /// Fewest pixels for which [`decode_counted`] decodes: below it a helper thread costs
@@ -27,6 +34,14 @@ pub(super) const COUNTED_PIXELS: u64 = 1 << 21;
 
 /// Bytes of rows handed between the decoder and the helper thread at a time.
 const BAND_BYTES: usize = 1 << 18;
+
+/// Compressed bytes per pixel from which inflating, not unfiltering, is the longer half
+/// of decoding (see [`decode_counted`]): then a thread of its own maps the pixel
+/// buffer's pages. Against the `png` crate's decoder on one thread, medians of paired
+/// runs of the whole trace: the scan of `make_scan.py` (0.53 bytes per pixel) 0.99× the
+/// wall time with that thread, 1.02× without; the 4096 px horse (0.012) 1.01× with,
+/// 0.93× without; the upscaled page (0.17) 0.97× with, 0.95× without.
+const INFLATE_HEAVY_BYTES_PER_PIXEL: f64 = 0.4;
 
 /// Bytes of a memory page (the smallest on the systems this runs on).
 const PAGE_BYTES: usize = 4096;
@@ -44,28 +59,56 @@ pub(super) struct CountedGrey {
 /// [`COUNTED_PIXELS`] pixels, and its histogram; `None` for every other image and for
 /// data the decoder rejects (the caller decodes those through the `image` crate, which
 /// reports the error). `check` (width, height, bytes per pixel) is asked from the header,
-/// before any pixel is decoded, as the `image` path asks it; the decoder allocates at
-/// most `max_alloc` bytes.
+/// before any pixel is decoded, as the `image` path asks it. The chunk reader holds at
+/// most the `png` crate's default 64 MiB of chunk data (text, colour profiles); a smaller
+/// `max_alloc` leaves the image to the `image` path, which applies it.
+///
+/// This thread inflates and copies the filtered rows into the pixel buffer band by band,
+/// the helper unfilters them (see the module docs); a band is counted by the helper
+/// when no band waits for it, else by this thread. A third thread maps the buffer's
+/// pages where inflating is the longer half ([`INFLATE_HEAVY_BYTES_PER_PIXEL`]).
 pub(super) fn decode_counted<R: BufRead + Seek>(
     reader: R,
     max_alloc: u64,
     check: &dyn Fn(u32, u32, u64) -> Result<()>,
 ) -> Result<Option<CountedGrey>> {
-    let limits = png::Limits {
-        bytes: usize::try_from(max_alloc).unwrap_or(usize::MAX),
+    if usize::try_from(max_alloc).unwrap_or(usize::MAX) < png::Limits::default().bytes {
+        return Ok(None);
+    }
+    // Inflating costs about 3.6 ns per compressed byte here, unfiltering (mostly Paeth's
+    // predictor, one pixel after another) and counting about 1.7 ns per pixel: the scan
+    // of `make_scan.py` has 0.53 compressed bytes per pixel, its upscaled page 0.17, the
+    // 4096 px horse 0.012.
+    let mut reader = reader;
+    let compressed = reader.seek(std::io::SeekFrom::End(0)).unwrap_or(0);
+    if reader.rewind().is_err() {
+        return Ok(None);
+    }
+    let mut stream = Stream {
+        reader,
+        decoder: png::StreamingDecoder::new(),
+        data: Vec::new(),
+        region: png::UnfilterRegion::default(),
+        consumed: 0,
+        flushed: false,
     };
-    let mut decoder = png::Decoder::new_with_limits(reader, limits);
-    // As the `image` crate's PNG decoder: low depths widened to 8 bits, a transparent
-    // level made an alpha channel (which this path then declines).
-    decoder.set_transformations(png::Transformations::EXPAND);
-    let Ok(mut reader) = decoder.read_info() else {
+    // The header and every chunk before the image data (a transparent level, an EXIF
+    // orientation or an animation, which this path declines, come before it).
+    loop {
+        match stream.next(false) {
+            Some(Decoded::ChunkBegin(_, png::chunk::IDAT)) => break,
+            Some(Decoded::ChunkComplete(png::chunk::IEND)) | None => return Ok(None),
+            Some(_) => {}
+        }
+    }
+    let Some(info) = stream.decoder.info() else {
         return Ok(None);
     };
-    let info = reader.info();
     let (width, height) = (info.width, info.height);
-    let plain_grey = reader.output_color_type()
-        == (png::ColorType::Grayscale, png::BitDepth::Eight)
+    let plain_grey = info.color_type == png::ColorType::Grayscale
+        && info.bit_depth == png::BitDepth::Eight
         && !info.interlaced
+        && info.trns.is_none()
         && info.animation_control.is_none()
         // An EXIF orientation would turn the image: left to the `image` path.
         && info.exif_metadata.is_none();
@@ -75,57 +118,255 @@ pub(super) fn decode_counted<R: BufRead + Seek>(
     }
     check(width, height, 1)?;
     let (w, len) = (width as usize, pixels as usize);
+    let inflating_is_longer = compressed as f64 >= INFLATE_HEAVY_BYTES_PER_PIXEL * pixels as f64;
     // Zeroed by the allocator (fresh pages), not by a pass over the buffer; the memory
     // was checked above.
     let mut buf = vec![0u8; len];
     let band = (BAND_BYTES / w).max(1) * w;
     let bands: Vec<&mut [u8]> = buf.chunks_mut(band).collect();
     let decoded = std::thread::scope(|scope| {
-        // Bands go to the decoder once their pages are mapped, and back once decoded.
-        let (to_decoder, fresh) = std::sync::mpsc::channel::<&mut [u8]>();
-        let (to_counter, decoded) = std::sync::mpsc::channel::<&[u8]>();
-        let helper = std::thread::Builder::new()
-            .name("outlinefit-png".into())
+        // Bands filled with filtered rows (and their filter types) go to the helper;
+        // unfiltered back here to be counted, when the helper has the next band waiting.
+        let (to_helper, filled) = std::sync::mpsc::channel::<(&mut [u8], Vec<u8>)>();
+        let (to_counter, unfiltered) = std::sync::mpsc::channel::<&[u8]>();
+        let spawn = |name: &str| std::thread::Builder::new().name(name.into());
+        // The kernel maps and clears a fresh page at its first write. Where inflating is
+        // the longer half, a third thread does that ahead of this one, which would
+        // otherwise stop at every page; where unfiltering is, this thread has the time
+        // and a third would only take the helper's core.
+        let fresh: Box<dyn Iterator<Item = &mut [u8]>> = if inflating_is_longer {
+            let (to_decoder, fresh) = std::sync::mpsc::channel::<&mut [u8]>();
+            spawn("outlinefit-pages")
+                .spawn_scoped(scope, move || {
+                    for band in bands {
+                        band.iter_mut().step_by(PAGE_BYTES).for_each(|b| *b = 0);
+                        if to_decoder.send(band).is_err() {
+                            break;
+                        }
+                    }
+                })
+                .ok()?;
+            Box::new(fresh.into_iter())
+        } else {
+            Box::new(bands.into_iter())
+        };
+        let helper = spawn("outlinefit-png")
             .spawn_scoped(scope, move || {
-                // The kernel maps and clears a fresh page at its first write: done here
-                // ahead of the decoder, which would otherwise stop at every page.
-                for band in bands {
-                    band.iter_mut().step_by(PAGE_BYTES).for_each(|b| *b = 0);
-                    if to_decoder.send(band).is_err() {
-                        break;
+                let mut counts = Box::new([0u64; 256]);
+                // The last row of the band before (none above the first row).
+                let mut above: Vec<u8> = Vec::new();
+                let mut next = filled.recv().ok();
+                while let Some((rows, filters)) = next.take() {
+                    for (k, &filter) in filters.iter().enumerate() {
+                        let (done, rest) = rows.split_at_mut(k * w);
+                        let prev = match k {
+                            0 => &above[..],
+                            _ => &done[(k - 1) * w..],
+                        };
+                        unfilter(filter, prev, &mut rest[..w])?;
+                    }
+                    above.clear();
+                    above.extend_from_slice(&rows[rows.len() - w..]);
+                    let rows: &[u8] = rows;
+                    // Counted here while no band waits, else by the decoding thread.
+                    next = filled.try_recv().ok();
+                    if next.is_some() {
+                        to_counter.send(rows).ok()?;
+                    } else {
+                        add_counts(&mut counts, rows);
+                        next = filled.recv().ok();
                     }
                 }
-                drop(to_decoder);
-                let mut counts = Box::new([0u64; 256]);
-                for rows in decoded {
-                    let c = byte_counts(rows);
-                    counts.iter_mut().zip(c).for_each(|(a, b)| *a += b);
-                }
-                counts
+                Some(counts)
             })
             .ok()?;
+        let mut counts = Box::new([0u64; 256]);
         let mut ok = true;
         for rows in fresh {
-            ok = rows
-                .chunks_mut(w)
-                .all(|row| matches!(reader.read_row(row), Ok(Some(_))));
-            // The band is finished: the counter may read it while the next one decodes.
-            let rows: &[u8] = rows;
-            if !ok || to_counter.send(rows).is_err() {
+            let mut filters = Vec::with_capacity(rows.len() / w);
+            for row in rows.chunks_mut(w) {
+                let Some(line) = stream.row(w + 1) else {
+                    ok = false;
+                    break;
+                };
+                filters.push(line[0]);
+                row.copy_from_slice(&line[1..]);
+            }
+            if !ok || to_helper.send((rows, filters)).is_err() {
+                ok = false;
                 break;
             }
+            unfiltered
+                .try_iter()
+                .for_each(|rows| add_counts(&mut counts, rows));
         }
-        // Past the last row the decoder reads to the end of the image data (and checks
-        // it), as the `image` crate's decoding of the whole frame does.
-        ok = ok && matches!(reader.read_row(&mut []), Ok(None));
-        drop(to_counter);
-        let counts = helper.join().ok()?;
+        // Past the last row the image data is read to its end (and checked), as the
+        // `image` crate's decoding of the whole frame does.
+        ok = ok && stream.finish();
+        drop(to_helper);
+        unfiltered
+            .iter()
+            .for_each(|rows| add_counts(&mut counts, rows));
+        let theirs = helper.join().ok().flatten()?;
+        counts
+            .iter_mut()
+            .zip(theirs.iter())
+            .for_each(|(a, b)| *a += b);
         ok.then_some(counts)
     });
     let Some(counts) = decoded else {
         return Ok(None);
     };
     Ok(GrayImage::from_raw(width, height, buf).map(|image| CountedGrey { image, counts }))
+}
+
+/// Adds the levels of `rows` to `counts`.
+fn add_counts(counts: &mut [u64; 256], rows: &[u8]) {
+    let c = byte_counts(rows);
+    counts.iter_mut().zip(c).for_each(|(a, b)| *a += b);
+}
+
+/// Bytes the inflater may write past the decompressed ones in one call (it asks for
+/// 8 KB at a time).
+const INFLATE_ROOM: usize = 1 << 15;
+
+/// Bytes of rows read out of the inflater's buffer after which the rest is moved down.
+const COMPACT_BYTES: usize = 1 << 16;
+
+/// The `png` crate's streaming decoder over `reader`, its image data inflated into
+/// `data`: `data[consumed..region.available]` holds filtered rows not yet read, and
+/// `data[region.available..region.filled]` the inflater's look-back, which must stay.
+struct Stream<R> {
+    reader: R,
+    decoder: png::StreamingDecoder,
+    data: Vec<u8>,
+    region: png::UnfilterRegion,
+    consumed: usize,
+    /// The image data has ended.
+    flushed: bool,
+}
+
+impl<R: BufRead> Stream<R> {
+    /// The decoder's next event, its image data (with `image`) appended to `data`;
+    /// `None` at an error or the end of the input.
+    fn next(&mut self, image: bool) -> Option<Decoded> {
+        if image && self.data.len() < self.region.filled + INFLATE_ROOM {
+            self.data.resize(self.region.filled + INFLATE_ROOM, 0);
+        }
+        let input = self.reader.fill_buf().ok()?;
+        if input.is_empty() {
+            return None;
+        }
+        let (used, event) = if image {
+            let mut out = self.region.as_buf(&mut self.data);
+            self.decoder.update(input, Some(&mut out)).ok()?
+        } else {
+            self.decoder.update(input, None).ok()?
+        };
+        self.reader.consume(used);
+        Some(event)
+    }
+
+    /// The next filtered row, `len` bytes with its filter type first; `None` when the
+    /// image data ends before it or is corrupt.
+    fn row(&mut self, len: usize) -> Option<&[u8]> {
+        while self.region.available - self.consumed < len {
+            if self.flushed {
+                return None;
+            }
+            if self.consumed >= COMPACT_BYTES {
+                self.compact();
+            }
+            if let Decoded::ImageDataFlushed = self.next(true)? {
+                self.flushed = true;
+            }
+        }
+        let start = self.consumed;
+        self.consumed += len;
+        Some(&self.data[start..self.consumed])
+    }
+
+    /// Moves the bytes not yet read down to the buffer's start.
+    fn compact(&mut self) {
+        self.data.copy_within(self.consumed..self.region.filled, 0);
+        self.region.available -= self.consumed;
+        self.region.filled -= self.consumed;
+        self.consumed = 0;
+    }
+
+    /// Reads the image data to its end (what follows the last row is discarded); false
+    /// when it is corrupt or the input ends first.
+    fn finish(&mut self) -> bool {
+        while !self.flushed {
+            self.consumed = self.region.available;
+            self.compact();
+            match self.next(true) {
+                Some(Decoded::ImageDataFlushed) => self.flushed = true,
+                Some(_) => {}
+                None => return false,
+            }
+        }
+        true
+    }
+}
+
+/// Undoes the PNG filter `filter` (0 to 4: none, sub, up, average, Paeth) of one row of
+/// 8-bit grey pixels in place, given the unfiltered row above (empty for the first row,
+/// which counts as zeros); `None` for an unknown filter type. Each pixel depends on the
+/// one before, so a row is one chain: this is what the helper thread does while the
+/// decoder inflates.
+fn unfilter(filter: u8, above: &[u8], row: &mut [u8]) -> Option<()> {
+    let first_row = above.is_empty();
+    let sub = |row: &mut [u8]| {
+        for i in 1..row.len() {
+            row[i] = row[i].wrapping_add(row[i - 1]);
+        }
+    };
+    match filter {
+        0 => {}
+        1 => sub(row),
+        // Paeth's predictor of the first row is the left neighbour: sub.
+        4 if first_row => sub(row),
+        2 if first_row => {}
+        2 => row
+            .iter_mut()
+            .zip(above)
+            .for_each(|(r, &b)| *r = r.wrapping_add(b)),
+        3 => {
+            let up = |i: usize| if first_row { 0 } else { u16::from(above[i]) };
+            row[0] = row[0].wrapping_add((up(0) / 2) as u8);
+            for i in 1..row.len() {
+                let mean = (u16::from(row[i - 1]) + up(i)) / 2;
+                row[i] = row[i].wrapping_add(mean as u8);
+            }
+        }
+        4 => {
+            // Left and upper-left are 0 at the row's start: the predictor is the pixel
+            // above.
+            row[0] = row[0].wrapping_add(above[0]);
+            for i in 1..row.len() {
+                row[i] = row[i].wrapping_add(paeth(row[i - 1], above[i], above[i - 1]));
+            }
+        }
+        _ => return None,
+    }
+    Some(())
+}
+
+/// Paeth's predictor of a pixel from its left (`a`), upper (`b`) and upper-left (`c`)
+/// neighbours: the one nearest to a + b − c, ties to `a`, then `b`. Written without
+/// branches: with p = a + b − c, a or b wins (the smaller or the larger of them) unless
+/// c lies between them and nearer p; the comparisons reduce to 3c − (a + b) against
+/// min(a, b) and max(a, b) (the formulation of public-domain stb_image). A test compares
+/// it with the specification's on every triple.
+#[inline]
+fn paeth(a: u8, b: u8, c: u8) -> u8 {
+    let (a, b, c) = (i16::from(a), i16::from(b), i16::from(c));
+    let thresh = 3 * c - (a + b);
+    let (lo, hi) = (a.min(b), a.max(b));
+    let t0 = if hi <= thresh { lo } else { c };
+    let t1 = if thresh <= lo { hi } else { t0 };
+    t1 as u8
 }
 
 #[cfg(test)]
@@ -206,6 +447,102 @@ mod tests {
             for (r, c) in [(600, 700), (5, 5), (700, 140), (1399, 1599)] {
                 assert_eq!(fast.coverage_at(c, r), whole.coverage_at(c, r), "{mode:?}");
             }
+        }
+    }
+
+    /// Paeth's predictor as the PNG specification writes it.
+    fn paeth_by_the_book(a: u8, b: u8, c: u8) -> u8 {
+        let p = i16::from(a) + i16::from(b) - i16::from(c);
+        let (pa, pb, pc) = (
+            (p - i16::from(a)).abs(),
+            (p - i16::from(b)).abs(),
+            (p - i16::from(c)).abs(),
+        );
+        if pa <= pb && pa <= pc {
+            a
+        } else if pb <= pc {
+            b
+        } else {
+            c
+        }
+    }
+
+    #[test]
+    fn paeths_predictor_is_the_specifications_on_every_triple() {
+        for a in 0..=255u8 {
+            for b in 0..=255u8 {
+                for c in 0..=255u8 {
+                    assert_eq!(paeth(a, b, c), paeth_by_the_book(a, b, c), "{a} {b} {c}");
+                }
+            }
+        }
+    }
+
+    /// Each of the five filters, every row filtered alike (and an odd width, so that
+    /// bands hold whole rows that do not fill them), decodes to the `image` crate's
+    /// pixels and counts; an unknown filter type leaves the image to the `image` crate.
+    #[test]
+    fn every_filter_type_decodes_to_the_image_crates_pixels() {
+        let (w, h) = (1601, 1399);
+        let grey = page(w, h);
+        for filter in [
+            png::Filter::NoFilter,
+            png::Filter::Sub,
+            png::Filter::Up,
+            png::Filter::Avg,
+            png::Filter::Paeth,
+        ] {
+            let mut bytes = Vec::new();
+            let mut encoder = png::Encoder::new(&mut bytes, w, h);
+            encoder.set_color(png::ColorType::Grayscale);
+            encoder.set_depth(png::BitDepth::Eight);
+            encoder.set_filter(filter);
+            let mut writer = encoder.write_header().unwrap();
+            writer.write_image_data(grey.as_raw()).unwrap();
+            writer.finish().unwrap();
+            let counted = decode_counted(Cursor::new(&bytes[..]), u64::MAX, &pass)
+                .unwrap()
+                .expect("decoded here");
+            let reference = image::load_from_memory(&bytes).unwrap();
+            let reference = reference.as_luma8().expect("8-bit grey");
+            assert_eq!(counted.image.as_raw(), reference.as_raw(), "{filter:?}");
+            assert_eq!(counted.image.as_raw(), grey.as_raw(), "{filter:?}");
+            assert_eq!(
+                *counted.counts,
+                byte_counts(reference.as_raw()),
+                "{filter:?}"
+            );
+        }
+        let row = vec![7u8; 9];
+        let mut bad = row.clone();
+        assert!(unfilter(5, &row, &mut bad).is_none());
+    }
+
+    /// A noisy page compresses to more bytes per pixel than
+    /// [`INFLATE_HEAVY_BYTES_PER_PIXEL`], a smooth one to fewer: both ways of mapping
+    /// the pages (a thread of their own, or the decoding thread) give the same pixels.
+    #[test]
+    fn pages_mapped_either_way_give_the_same_pixels() {
+        let (w, h) = (1600, 1400);
+        let noisy = page(w, h);
+        let smooth = image::GrayImage::from_fn(w, h, |c, r| {
+            let disc = (f64::from(c) - 700.0).hypot(f64::from(r) - 600.0) < 350.0;
+            Luma([if disc { 30 } else { 220 }])
+        });
+        let pixels = f64::from(w * h);
+        for (img, heavy) in [(noisy, true), (smooth, false)] {
+            let bytes = png_bytes(DynamicImage::ImageLuma8(img.clone()));
+            let per_pixel = bytes.len() as f64 / pixels;
+            assert_eq!(
+                per_pixel >= INFLATE_HEAVY_BYTES_PER_PIXEL,
+                heavy,
+                "{per_pixel}"
+            );
+            let counted = decode_counted(Cursor::new(&bytes[..]), u64::MAX, &pass)
+                .unwrap()
+                .expect("decoded here");
+            assert_eq!(counted.image.as_raw(), img.as_raw());
+            assert_eq!(*counted.counts, byte_counts(img.as_raw()));
         }
     }
 
