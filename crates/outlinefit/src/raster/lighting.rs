@@ -78,6 +78,7 @@ fn block_size(longest: usize) -> usize {
 }
 
 /// The blocks of an image's paper map and the grid of samples in them.
+#[derive(Clone, Copy)]
 struct Grid {
     /// Side of a block (px), [`block_size`].
     block: usize,
@@ -100,11 +101,14 @@ impl Grid {
         }
     }
 
-    /// The columns `start..end` of block column `bx`, whose every `step`-th from `start`
-    /// (the multiples of `step`) is sampled.
-    fn columns(block: usize, step: usize, bx: usize, width: usize) -> (usize, usize) {
-        let end = ((bx + 1) * block).min(width);
-        (((bx * block).div_ceil(step) * step).min(end), end)
+    /// The columns `start..end` of block column `bx` of an image `width` px wide, whose
+    /// every `step`-th from `start` (the multiples of `step`) is sampled.
+    fn columns(self, bx: usize, width: usize) -> (usize, usize) {
+        let end = ((bx + 1) * self.block).min(width);
+        (
+            ((bx * self.block).div_ceil(self.step) * self.step).min(end),
+            end,
+        )
     }
 }
 
@@ -193,12 +197,13 @@ pub(super) fn paper_is_light(
     let Some(dark) = (0..256usize).find(|&b| b as f32 / 255.0 >= t) else {
         return true;
     };
+    let grid = Grid::of(width, height);
     let Grid {
         block,
         cols,
         rows,
         step,
-    } = Grid::of(width, height);
+    } = grid;
     let (mut light, mut samples) = (vec![0u32; cols], vec![0u32; cols]);
     // 8-bit levels: whether each of the 256 levels is in a light bin, once.
     let light_bytes = match coverage {
@@ -217,7 +222,7 @@ pub(super) fn paper_is_light(
                 Some((levels, is_light)) => {
                     let line = &levels[y * width..(y + 1) * width];
                     for (bx, (l, n)) in light.iter_mut().zip(&mut samples).enumerate() {
-                        let (start, end) = Grid::columns(block, step, bx, width);
+                        let (start, end) = grid.columns(bx, width);
                         let run = line[start..end].iter().step_by(step);
                         *n += run.len() as u32;
                         *l += run
@@ -255,12 +260,13 @@ pub(super) struct PaperMap {
 impl PaperMap {
     /// Estimates the paper level of every block of a `width × height` coverage field.
     pub(super) fn new(coverage: &Levels, width: usize, height: usize) -> PaperMap {
+        let grid = Grid::of(width, height);
         let Grid {
             block,
             cols,
             rows,
             step,
-        } = Grid::of(width, height);
+        } = grid;
         let mut paper = Vec::with_capacity(cols * rows);
         let mut ink = Vec::with_capacity(cols * rows);
         // One 256-bin histogram per block of the current row of blocks.
@@ -281,7 +287,7 @@ impl PaperMap {
                         let line = &levels[y * width..(y + 1) * width];
                         let bin_of = |l: u8| usize::from(bins[usize::from(l)]);
                         for (bx, h) in hist.iter_mut().enumerate() {
-                            let (start, end) = Grid::columns(block, step, bx, width);
+                            let (start, end) = grid.columns(bx, width);
                             // Counted by runs of one level: paper is mostly one level,
                             // and adding one to the same bin again and again waits for
                             // each addition to land before the next. A stretch of one
@@ -574,17 +580,18 @@ mod tests {
         ] {
             let cov = levels_of(&page);
             let map = PaperMap::new(&cov, w, h);
+            let grid = Grid::of(w, h);
             let Grid {
                 block,
                 cols,
                 rows,
                 step,
-            } = Grid::of(w, h);
+            } = grid;
             let (mut paper, mut ink) = (Vec::new(), Vec::new());
             let mut row = vec![0.0f32; w];
             for by in 0..rows {
                 for bx in 0..cols {
-                    let (start, end) = Grid::columns(block, step, bx, w);
+                    let (start, end) = grid.columns(bx, w);
                     let mut bins = Vec::new();
                     for y in (by * block..((by + 1) * block).min(h)).step_by(step) {
                         cov.read(y * w, &mut row);

@@ -2,8 +2,9 @@
 //!
 //! This module owns everything between an image file and a [`Bitmap`]: decoding (the
 //! `decode` file: any format the `image` crate reads, recognised by content rather than by
-//! file name, within the size and memory limits; a large 8-bit grey PNG is read row by
-//! row beside a helper thread that counts its histogram, `grey_png`), the choice between the alpha channel and
+//! file name, within the size and memory limits; a large 8-bit grey PNG is inflated on
+//! one core while a second undoes its rows' filters and its histogram is counted,
+//! `grey_png`), the choice between the alpha channel and
 //! the luminance as the shape, polarity (`invert`), the threshold (fixed or Otsu's) and
 //! two facts the later stages need: whether the image is *bilevel* (no grey levels at its
 //! edges, so sub-pixel refinement cannot work) and whether its border is mostly foreground
