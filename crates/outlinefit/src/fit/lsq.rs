@@ -151,15 +151,13 @@ pub(super) struct Piece {
 }
 
 impl Piece {
-    /// A polynomial fit: drawn by its own cubic.
+    /// A polynomial fit: drawn by its own cubic (made when needed, as a rational
+    /// segment's are: most pieces are split or merged away first).
     fn polynomial(solution: SegmentSolution, max_residual: f64) -> Piece {
-        let cubics = vec![CubicBez {
-            points: solution.curve.points,
-        }];
         Piece {
             solution,
             max_residual,
-            cubics: Some(cubics),
+            cubics: None,
         }
     }
 

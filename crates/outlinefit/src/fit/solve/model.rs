@@ -173,6 +173,13 @@ impl<'a> LinearModel<'a> {
         }
     }
 
+    /// The same model at other parameters (one per point): the Bernstein values are
+    /// computed again in place, so that the rounds of a fit reuse one buffer.
+    pub(super) fn set_params(&mut self, params: impl Iterator<Item = f64>) {
+        self.bern.clear();
+        self.bern.extend(params.map(bernstein));
+    }
+
     pub(super) fn c0(&self) -> Point {
         self.points[0]
     }

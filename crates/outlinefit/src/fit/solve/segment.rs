@@ -12,6 +12,7 @@ use super::polish::polish;
 use super::weights::follow_valley;
 use super::weights::grid_starts;
 use super::weights::search_weights;
+use super::weights::every;
 use super::weights::strided;
 use crate::curve::power::CONVERGED_STEP;
 use crate::curve::rational::nearest_sample;
@@ -102,19 +103,29 @@ pub fn fit_segment_from(
         _ => 1,
     };
     let search_points = (stride > 1).then(|| strided(points, stride));
-    let search_model = |params: &[f64]| {
-        search_points.as_deref().map(|subset| {
-            LinearModel::with_scale(subset, &strided(params, stride), start, end, scale)
-        })
-    };
+    // One model for every round of every run, and one for the weight search's subset:
+    // each round computes their Bernstein values again at its parameters, in the same
+    // buffers.
+    let mut model = LinearModel::with_scale(points, &[], start, end, scale);
+    let mut coarse = search_points
+        .as_deref()
+        .map(|subset| LinearModel::with_scale(subset, &[], start, end, scale));
     for (k, initial) in inits.iter().enumerate() {
         if settings.fixed_weights() {
             runs.push((k, [settings.weight_range.0; 2]));
             continue;
         }
-        let model = search_model(initial)
-            .unwrap_or_else(|| LinearModel::with_scale(points, initial, start, end, scale));
-        let (starts, ev) = grid_starts(&model, settings.weight_range, settings.starts.max(1));
+        let searched = match coarse.as_mut() {
+            Some(c) => {
+                c.set_params(every(initial, stride));
+                &*c
+            }
+            None => {
+                model.set_params(initial.iter().copied());
+                &model
+            }
+        };
+        let (starts, ev) = grid_starts(searched, settings.weight_range, settings.starts.max(1));
         evaluations += ev;
         runs.extend(starts.into_iter().map(|w| (k, w)));
     }
@@ -129,12 +140,17 @@ pub fn fit_segment_from(
         let mut round = 0;
         let mut gave_up = false;
         loop {
-            let model = LinearModel::with_scale(points, &params, start, end, scale);
+            model.set_params(params.iter().copied());
             if !settings.fixed_weights() {
                 // Later rounds only adjust: the parameters moved a little.
                 let step = if round == 0 { 0.5 } else { 0.1 };
-                let coarse = search_model(&params);
-                let searched = coarse.as_ref().unwrap_or(&model);
+                let searched = match coarse.as_mut() {
+                    Some(c) => {
+                        c.set_params(every(&params, stride));
+                        &*c
+                    }
+                    None => &model,
+                };
                 let (w, _, ev) =
                     search_weights(searched, settings.weight_range, weights, step, 0.02);
                 evaluations += ev;
@@ -161,7 +177,7 @@ pub fn fit_segment_from(
             reproject(&curve, points, &mut params);
         }
         if settings.polish_iterations > 0 {
-            let model = LinearModel::with_scale(points, &params, start, end, scale);
+            model.set_params(params.iter().copied());
             let (polished, ev) = polish(&model, curve, &mut params, settings);
             curve = polished;
             evaluations += ev;

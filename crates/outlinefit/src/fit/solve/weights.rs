@@ -144,10 +144,17 @@ pub(super) fn search_weights(
 
 /// Every `stride`-th item of `items`, and the last one.
 pub(super) fn strided<T: Copy>(items: &[T], stride: usize) -> Vec<T> {
+    every(items, stride).collect()
+}
+
+/// The items of [`strided`], in order.
+pub(super) fn every<T: Copy>(items: &[T], stride: usize) -> impl Iterator<Item = T> + '_ {
     let last = items.len() - 1;
-    let mut out: Vec<T> = items[..last].iter().step_by(stride).copied().collect();
-    out.push(items[last]);
-    out
+    items[..last]
+        .iter()
+        .step_by(stride)
+        .chain(std::iter::once(&items[last]))
+        .copied()
 }
 
 /// Starting weights from a 4 × 4 grid of typical weights (0.1, 0.4, 1, 2, clamped into
