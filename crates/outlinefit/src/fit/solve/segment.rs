@@ -22,7 +22,6 @@ use crate::geom::Point;
 use crate::linalg::cramer2;
 use crate::param::centripetal_parameters;
 use crate::param::parameters_into;
-use crate::param::Parameterization;
 use std::borrow::Cow;
 
 /// Fits one segment: centripetal parameters, weight search with least-squares control
@@ -71,26 +70,17 @@ pub fn fit_segment_from(
         };
     }
     let warm = warm.filter(|w| w.len() == points.len());
-    // The working parameters: a warm start's own (each run copies its start in below),
-    // else the centripetal ones, which the first rule uses as they are.
-    let mut params = match warm {
-        Some(w) => w.to_vec(),
-        None => centripetal_parameters(points),
-    };
     let scale = run_scale(points);
     let mut evaluations = 0;
     // Each run is an initial parameterisation (an index into `inits`) and start weights.
     let mut runs: Vec<(usize, [f64; 2])> = Vec::new();
-    let inits: Vec<Cow<[f64]>> = match warm {
+    // The initial parameters of each rule, or the warm start's.
+    let mut inits: Vec<Cow<[f64]>> = match warm {
         Some(w) => vec![Cow::Borrowed(w)],
         None => settings
             .initial
             .iter()
             .map(|&rule| {
-                // The centripetal parameters are already there.
-                if rule == Parameterization::Centripetal {
-                    return Cow::Owned(params.clone());
-                }
                 let mut p = Vec::with_capacity(points.len());
                 parameters_into(points, rule, &mut p);
                 Cow::Owned(p)
@@ -133,8 +123,15 @@ pub fn fit_segment_from(
     // With one run there is nothing to choose between: its objective (one more projection
     // of every point) is not needed.
     let single = runs.len() == 1;
+    // The working parameters: the one run's start itself, or each run's copied in.
+    let mut params: Vec<f64> = Vec::new();
     for (k, w0) in runs {
-        params.copy_from_slice(&inits[k]);
+        if single {
+            params = std::mem::take(&mut inits[k]).into_owned();
+        } else {
+            params.clear();
+            params.extend_from_slice(&inits[k]);
+        }
         let mut weights = w0;
         let mut curve;
         let mut round = 0;

@@ -174,7 +174,8 @@ pub(super) fn grid_starts(
             *v = model.solve([at(i), at(j)]).1;
         }
     }
-    let mut minima: Vec<(f64, [f64; 2])> = Vec::new();
+    let mut found = [(0.0, [0.0; 2]); N * N];
+    let mut minima_found = 0;
     for i in 0..N {
         for j in 0..N {
             let v = e[i][j];
@@ -184,12 +185,14 @@ pub(super) fn grid_starts(
                 || (j > 0 && lower(i, j - 1))
                 || (j + 1 < N && lower(i, j + 1)));
             if is_min {
-                minima.push((v, [at(i), at(j)]));
+                found[minima_found] = (v, [at(i), at(j)]);
+                minima_found += 1;
             }
         }
     }
+    let minima = &mut found[..minima_found];
     minima.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut starts: Vec<[f64; 2]> = minima.into_iter().take(count).map(|m| m.1).collect();
+    let mut starts: Vec<[f64; 2]> = minima.iter().take(count).map(|m| m.1).collect();
     if starts.len() < count && !starts.contains(&[1.0, 1.0]) {
         starts.push([1.0, 1.0]);
     }
