@@ -392,7 +392,7 @@ impl Bitmap {
     /// Bilinear interpolation of the coverage at `p`, with pixel (c, r) sampled at its centre
     /// (c + 0.5, r + 0.5) and every pixel outside the image counted as 0 (so the value falls
     /// to 0 over the half pixel beyond the border, and is 0 further out).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, p: Point) -> f64 {
         let x = p.x - 0.5;
         let y = p.y - 0.5;
