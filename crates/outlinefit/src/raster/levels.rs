@@ -248,16 +248,38 @@ fn byte_bands(table: &[u8]) -> Option<[(u8, u8, bool); 8]> {
 /// Pixels per chunk in which [`Levels::histogram`] counts a large 8-bit image in parallel.
 const HISTOGRAM_CHUNK: usize = 1 << 20;
 
-/// How many of `levels` have each 8-bit level.
+/// How many of `levels` have each 8-bit level. A chunk of 16 equal bytes (flat paper,
+/// a silhouette's inside) is counted at once, the other chunks byte by byte as
+/// [`tally`] counts them: the same counts (a test compares them), and the 4096 px horse,
+/// 98 % flat, counted in a fraction of the time.
 pub(super) fn byte_counts(levels: &[u8]) -> [u64; 256] {
-    tally(levels, usize::from)
+    const RUN: usize = 16;
+    let mut lanes = [[0u64; 256]; 4];
+    let mut runs = levels.chunks_exact(RUN);
+    for run in &mut runs {
+        let mut bytes = [0u8; RUN];
+        bytes.copy_from_slice(run);
+        let first = run[0];
+        if u128::from_ne_bytes(bytes) == u128::from_ne_bytes([first; RUN]) {
+            lanes[0][usize::from(first)] += RUN as u64;
+        } else {
+            tally_into(&mut lanes, run, usize::from);
+        }
+    }
+    tally_into(&mut lanes, runs.remainder(), usize::from);
+    std::array::from_fn(|k| lanes.iter().map(|lane| lane[k]).sum())
 }
 
 /// How many of `levels` fall in each of 256 bins, `bin` (below 256) giving a level's.
 fn tally<L: Copy>(levels: &[L], bin: impl Fn(L) -> usize) -> [u64; 256] {
-    // Four interleaved tallies: runs of one level (a page's white paper) would otherwise
-    // make every increment wait for the one before it.
     let mut lanes = [[0u64; 256]; 4];
+    tally_into(&mut lanes, levels, bin);
+    std::array::from_fn(|k| lanes.iter().map(|lane| lane[k]).sum())
+}
+
+/// Adds the bins of `levels` to four interleaved tallies: runs of one level (a page's
+/// white paper) would otherwise make every increment wait for the one before it.
+fn tally_into<L: Copy>(lanes: &mut [[u64; 256]; 4], levels: &[L], bin: impl Fn(L) -> usize) {
     let mut quads = levels.chunks_exact(4);
     for quad in &mut quads {
         for (lane, &l) in lanes.iter_mut().zip(quad) {
@@ -267,7 +289,6 @@ fn tally<L: Copy>(levels: &[L], bin: impl Fn(L) -> usize) -> [u64; 256] {
     for &l in quads.remainder() {
         lanes[0][bin(l)] += 1;
     }
-    std::array::from_fn(|k| lanes.iter().map(|lane| lane[k]).sum())
 }
 
 /// A zeroed table of 16-bit levels (256 KiB).
@@ -346,6 +367,41 @@ mod tests {
         let levels = Levels::quantised(words);
         let bin = |v: f32| ((v * 65535.0).round() as usize) >> 8;
         assert_eq!(levels.binned(bin, None), plain);
+    }
+
+    #[test]
+    fn byte_counts_of_flat_and_mixed_stretches_are_the_plain_count() {
+        // Flat runs of every length from 1 to 40 at every offset, between noise, with
+        // lengths that leave every remainder of a 16-byte chunk.
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut noise = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state as u8
+        };
+        let mut levels = Vec::new();
+        for run in 1..=40usize {
+            for gap in 0..3 {
+                levels.extend((0..gap).map(|_| noise()));
+                levels.extend(std::iter::repeat_n((run * 37) as u8, run));
+            }
+        }
+        levels.extend(std::iter::repeat_n(255u8, 4096));
+        let mut flat_chunks = 0;
+        for len in [0, 1, 15, 16, 17, 100, levels.len() - 3, levels.len()] {
+            let part = &levels[..len];
+            let mut plain = [0u64; 256];
+            for &l in part {
+                plain[usize::from(l)] += 1;
+            }
+            assert_eq!(byte_counts(part), plain, "the first {len} bytes");
+            flat_chunks += part
+                .chunks_exact(16)
+                .filter(|c| c.iter().all(|&b| b == c[0]))
+                .count();
+        }
+        assert!(flat_chunks > 500, "{flat_chunks} flat chunks");
     }
 
     #[test]
