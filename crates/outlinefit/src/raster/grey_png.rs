@@ -8,9 +8,12 @@
 //! 4096 px horse about 30 ms, 20 of them unfiltering. Here the `png` crate's streaming
 //! decoder reads the chunks (checking their CRCs) and inflates on this thread, which
 //! copies each filtered row into the pixel buffer; a helper thread undoes the filters
-//! band by band as they come ([`unfilter`], the specification's five filters). The
-//! threshold needs the histogram of every pixel, which used to be a pass of its own
-//! once decoding ended: each unfiltered band is counted by whichever thread has time.
+//! band by band as they come ([`unfilter`], the specification's five filters; a Paeth
+//! row takes the sub filter's short chain wherever the row above is level, most of a
+//! flat image). The threshold needs the histogram of every pixel, which used to be a
+//! pass of its own once decoding ended: each unfiltered band is counted by whichever
+//! thread has time (a chunk of equal bytes at once). The 4096 px horse now decodes in
+//! about 9 ms.
 //! Where inflating is the longer half (many compressed bytes per pixel, a scanned page),
 //! a third thread writes to every fresh page of the buffer ahead of the decoding thread,
 //! so that the kernel maps and clears them there (on the scan 8 500 page faults).
@@ -518,13 +521,9 @@ mod tests {
         // Rows above with level stretches (so that chunks take the shortcut), steps and
         // noise; filtered rows with zero runs, small values and noise; every length
         // around a chunk's multiple.
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        use rand::{RngExt, SeedableRng};
+        let mut rng = crate::optim::SeededRng::seed_from_u64(19);
+        let mut next = move || rng.random::<u64>();
         let mut shortcuts = 0;
         for len in [1, 2, 15, 16, 17, 31, 32, 33, 47, 100, 257] {
             for case in 0..200 {

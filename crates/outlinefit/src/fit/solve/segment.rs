@@ -105,16 +105,10 @@ pub fn fit_segment_from(
             runs.push((k, [settings.weight_range.0; 2]));
             continue;
         }
-        let searched = match coarse.as_mut() {
-            Some(c) => {
-                c.set_params(every(initial, stride));
-                &*c
-            }
-            None => {
-                model.set_params(initial.iter().copied());
-                &model
-            }
-        };
+        if coarse.is_none() {
+            model.set_params(initial.iter().copied());
+        }
+        let searched = searched_model(&mut coarse, &model, initial, stride);
         let (starts, ev) = grid_starts(searched, settings.weight_range, settings.starts.max(1));
         evaluations += ev;
         runs.extend(starts.into_iter().map(|w| (k, w)));
@@ -141,13 +135,7 @@ pub fn fit_segment_from(
             if !settings.fixed_weights() {
                 // Later rounds only adjust: the parameters moved a little.
                 let step = if round == 0 { 0.5 } else { 0.1 };
-                let searched = match coarse.as_mut() {
-                    Some(c) => {
-                        c.set_params(every(&params, stride));
-                        &*c
-                    }
-                    None => &model,
-                };
+                let searched = searched_model(&mut coarse, &model, &params, stride);
                 let (w, _, ev) =
                     search_weights(searched, settings.weight_range, weights, step, 0.02);
                 evaluations += ev;
@@ -199,6 +187,24 @@ pub fn fit_segment_from(
         curve,
         params,
         evaluations,
+    }
+}
+
+/// The model the weight search evaluates at `params`: on a long run the subset's
+/// `coarse` one, its Bernstein values computed here at every `stride`-th parameter,
+/// else the run's own `model`, which is already at `params`.
+fn searched_model<'m, 'a>(
+    coarse: &'m mut Option<LinearModel<'a>>,
+    model: &'m LinearModel<'a>,
+    params: &[f64],
+    stride: usize,
+) -> &'m LinearModel<'a> {
+    match coarse {
+        Some(c) => {
+            c.set_params(every(params, stride));
+            c
+        }
+        None => model,
     }
 }
 
