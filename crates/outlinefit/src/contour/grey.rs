@@ -15,6 +15,7 @@ use crate::geom::distance_to_closed_polyline;
 use crate::geom::AngleFloor;
 use crate::geom::Point;
 use crate::raster::Bitmap;
+use crate::raster::Cell;
 
 /// Half-width (px) of the window along the normal over which coverage is integrated.
 const HALF_WINDOW: f64 = 2.0;
@@ -347,7 +348,9 @@ fn refine_crack(
 /// [`OPEN_LEVEL`] of paper outwards or of ink inwards (the edge is wider than the window).
 fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point, steps: usize) -> (f64, bool) {
     let ds = HALF_WINDOW / WINDOW_STEPS as f64;
-    let f0 = bitmap.sample(m);
+    // Each walk reads a cell's pixels once for its samples in it.
+    let mut cell = Cell::NONE;
+    let f0 = bitmap.sample_in(m, &mut cell);
 
     // Outward: ∫₀ʰ f ds, f taken as 0 past its minimum.
     let mut outward = 0.0;
@@ -358,7 +361,7 @@ fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point, steps: usize) -> (f64, bo
         if prev <= 0.0 {
             break;
         }
-        let f = bitmap.sample(m + n * (j as f64 * ds));
+        let f = bitmap.sample_in(m + n * (j as f64 * ds), &mut cell);
         if f > lowest + MONOTONE_SLACK {
             open = false;
             break;
@@ -375,11 +378,12 @@ fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point, steps: usize) -> (f64, bo
     let mut prev = f0;
     let mut highest = f0;
     let mut reached = 0.0;
+    let mut cell = Cell::NONE;
     for j in 1..=steps {
         if prev >= 1.0 {
             break;
         }
-        let f = bitmap.sample(m - n * (j as f64 * ds));
+        let f = bitmap.sample_in(m - n * (j as f64 * ds), &mut cell);
         if f < highest - MONOTONE_SLACK {
             // Past the ridge of a stroke thinner than the window: its coverage never
             // reaches 1, and "1 past the maximum" would put the edge too far out.

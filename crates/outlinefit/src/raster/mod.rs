@@ -216,6 +216,22 @@ impl std::fmt::Debug for PaddedBits {
     }
 }
 
+/// The pixel cell (its top-left pixel) of the last sample of [`Bitmap::sample_in`] and
+/// the coverages of its four pixels.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cell {
+    at: (i64, i64),
+    values: [f32; 4],
+}
+
+impl Cell {
+    /// No cell read yet (no sample lands in cell (i64::MIN, i64::MIN)).
+    pub(crate) const NONE: Cell = Cell {
+        at: (i64::MIN, i64::MIN),
+        values: [0.0; 4],
+    };
+}
+
 impl Bitmap {
     /// Turns a decoded image into a [`Bitmap`] (see the module docs for the coverage rules).
     ///
@@ -394,6 +410,15 @@ impl Bitmap {
     /// to 0 over the half pixel beyond the border, and is 0 further out).
     #[inline(always)]
     pub fn sample(&self, p: Point) -> f64 {
+        let mut cell = Cell::NONE;
+        self.sample_in(p, &mut cell)
+    }
+
+    /// [`Bitmap::sample`] that keeps the four coverages of the last cell it read in
+    /// `cell`: a walk in quarter-pixel steps stays in a cell for several samples, and
+    /// reads its pixels once. The same values as [`Bitmap::sample`].
+    #[inline(always)]
+    pub(crate) fn sample_in(&self, p: Point, cell: &mut Cell) -> f64 {
         let x = p.x - 0.5;
         let y = p.y - 0.5;
         let (w, h) = (f64::from(self.width), f64::from(self.height));
@@ -407,23 +432,27 @@ impl Bitmap {
         let r = y as i64 - i64::from(y < 0.0);
         let fx = (x - c as f64) as f32;
         let fy = (y - r as f64) as f32;
-        let (v00, v10, v01, v11) = if c >= 0
-            && r >= 0
-            && c + 1 < i64::from(self.width)
-            && r + 1 < i64::from(self.height)
-        {
-            let stride = self.width as usize;
-            let i = r as usize * stride + c as usize;
-            let at = |k: usize| self.coverage.get(k).unwrap_or(0.0);
-            (at(i), at(i + 1), at(i + stride), at(i + stride + 1))
-        } else {
-            (
-                self.coverage_at(c, r),
-                self.coverage_at(c + 1, r),
-                self.coverage_at(c, r + 1),
-                self.coverage_at(c + 1, r + 1),
-            )
-        };
+        if cell.at != (c, r) {
+            cell.at = (c, r);
+            cell.values = if c >= 0
+                && r >= 0
+                && c + 1 < i64::from(self.width)
+                && r + 1 < i64::from(self.height)
+            {
+                let stride = self.width as usize;
+                let i = r as usize * stride + c as usize;
+                let at = |k: usize| self.coverage.get(k).unwrap_or(0.0);
+                [at(i), at(i + 1), at(i + stride), at(i + stride + 1)]
+            } else {
+                [
+                    self.coverage_at(c, r),
+                    self.coverage_at(c + 1, r),
+                    self.coverage_at(c, r + 1),
+                    self.coverage_at(c + 1, r + 1),
+                ]
+            };
+        }
+        let [v00, v10, v01, v11] = cell.values;
         let top = v00 + (v10 - v00) * fx;
         let bottom = v01 + (v11 - v01) * fx;
         f64::from(top + (bottom - top) * fy)
@@ -1266,6 +1295,31 @@ mod tests {
         assert_eq!(b.sample(Point::new(2.5, 0.5)), 0.0);
         assert_eq!(b.sample(Point::new(-3.0, 0.5)), 0.0);
         assert_eq!(b.sample(Point::new(f64::NAN, 0.5)), 0.0);
+    }
+
+    #[test]
+    fn samples_along_a_walk_reuse_cells_and_equal_single_samples() {
+        // Walks in quarter-pixel steps through the image, along its borders and out of
+        // it, in every direction: each sample with the walk's cell equals one without.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = crate::optim::SeededRng::seed_from_u64(23);
+        let (w, h) = (9u32, 7u32);
+        let cov: Vec<f32> = (0..w * h).map(|_| rng.random::<f32>()).collect();
+        let b = Bitmap::from_coverage(w, h, cov, Some(0.5)).unwrap();
+        let mut reused = 0;
+        for _ in 0..300 {
+            let start = Point::new(rng.random_range(-2.0..11.0), rng.random_range(-2.0..9.0));
+            let angle: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let step = Point::new(angle.cos(), angle.sin()) * 0.25;
+            let mut cell = Cell::NONE;
+            for j in 0..40 {
+                let p = start + step * f64::from(j);
+                let before = cell.at;
+                assert_eq!(b.sample_in(p, &mut cell).to_bits(), b.sample(p).to_bits());
+                reused += usize::from(cell.at == before);
+            }
+        }
+        assert!(reused > 3000, "{reused} samples reused their cell");
     }
 
     #[test]
