@@ -267,8 +267,7 @@ impl PaperMap {
             rows,
             step,
         } = grid;
-        let mut paper = Vec::with_capacity(cols * rows);
-        let mut ink = Vec::with_capacity(cols * rows);
+        let mut levels = Vec::with_capacity(cols * rows);
         // One 256-bin histogram per block of the current row of blocks.
         let mut hist = vec![Tally::default(); cols];
         // 8-bit levels: the bin of each of the 256 levels once, then one table look-up per
@@ -321,16 +320,23 @@ impl PaperMap {
                     }
                 }
             }
-            for h in &mut hist {
-                let (level, darkest) = h.paper_and_darkest();
-                paper.push(level as f32 / 255.0);
-                ink.push((darkest - level) as f32 / 255.0 >= INK_CONTRAST);
-            }
+            levels.extend(hist.iter_mut().map(Tally::paper_and_darkest));
         }
+        PaperMap::of_blocks(grid, &levels)
+    }
+
+    /// The map of a grid's blocks from each block's paper bin and darkest bin (row-major):
+    /// their levels, whether they hold ink, then the 3 × 3 median.
+    fn of_blocks(grid: Grid, levels: &[(usize, usize)]) -> PaperMap {
+        let paper = levels.iter().map(|&(l, _)| l as f32 / 255.0).collect();
+        let ink = levels
+            .iter()
+            .map(|&(l, darkest)| (darkest - l) as f32 / 255.0 >= INK_CONTRAST)
+            .collect();
         let mut map = PaperMap {
-            block,
-            cols,
-            rows,
+            block: grid.block,
+            cols: grid.cols,
+            rows: grid.rows,
             paper,
             ink,
         };
@@ -587,7 +593,7 @@ mod tests {
                 rows,
                 step,
             } = grid;
-            let (mut paper, mut ink) = (Vec::new(), Vec::new());
+            let mut levels = Vec::new();
             let mut row = vec![0.0f32; w];
             for by in 0..rows {
                 for bx in 0..cols {
@@ -598,22 +604,13 @@ mod tests {
                         bins.extend(row[start..end].iter().step_by(step).map(|&v| bin(v)));
                     }
                     bins.sort_unstable();
-                    let (level, darkest) = match bins.last() {
+                    levels.push(match bins.last() {
                         Some(&last) => (bins[paper_rank(bins.len() as u32) as usize - 1], last),
                         None => (0, 0),
-                    };
-                    paper.push(level as f32 / 255.0);
-                    ink.push((darkest - level) as f32 / 255.0 >= INK_CONTRAST);
+                    });
                 }
             }
-            let mut want = PaperMap {
-                block,
-                cols,
-                rows,
-                paper,
-                ink,
-            };
-            want.median_filter();
+            let want = PaperMap::of_blocks(grid, &levels);
             assert_eq!(map.paper, want.paper, "{w} × {h}");
             assert_eq!(map.ink, want.ink, "{w} × {h}");
         }
