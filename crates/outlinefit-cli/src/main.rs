@@ -5,11 +5,7 @@ mod cli;
 fn main() {
     // An interrupted run (Ctrl-C, SIGTERM) removes the temporary files it is writing, so
     // that no half-written output is left behind. Exit status 130, as shells report SIGINT.
-    let _ = ctrlc::set_handler(|| {
-        outlinefit::io::remove_live_temporaries();
-        eprintln!("error: interrupted; outputs not yet written are missing");
-        std::process::exit(130);
-    });
+    cli::interrupt::install();
     // A panic is a bug: the panic hook has printed where it happened; the user still gets
     // the one error line, the temporaries are removed, and the status is 1 like every
     // other failure (not the runtime's 101).
@@ -20,6 +16,8 @@ fn main() {
             cli::panic_message(panic.as_ref())
         ))
     });
+    // A signal during a short run (see `cli::interrupt`) ends it here if no output did.
+    cli::interrupt::check();
     match outcome {
         Ok(code) => std::process::exit(code),
         Err(e) => {

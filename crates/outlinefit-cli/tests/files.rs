@@ -419,11 +419,7 @@ fn an_interrupted_batch_leaves_no_debris_and_no_stale_summary() {
             .spawn()
             .unwrap();
         std::thread::sleep(std::time::Duration::from_millis(700));
-        Command::new("kill")
-            .arg(format!("-{signal}"))
-            .arg(child.id().to_string())
-            .status()
-            .unwrap();
+        send(&child, signal);
         let status = child.wait().unwrap();
         assert!(!status.success());
         let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
@@ -453,6 +449,130 @@ fn an_interrupted_batch_leaves_no_debris_and_no_stale_summary() {
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     assert_eq!(summary.lines().count(), 7, "{summary}");
     assert!(!summary.contains("unfinished"));
+}
+
+/// Sends `signal` (a `kill` name: INT, TERM, KILL) to `child`.
+#[cfg(unix)]
+fn send(child: &std::process::Child, signal: &str) {
+    let sent = Command::new("kill")
+        .arg(format!("-{signal}"))
+        .arg(child.id().to_string())
+        .status()
+        .unwrap();
+    assert!(sent.success());
+}
+
+/// Sends `signal` to `child` and waits at most 5 s for it to end.
+#[cfg(unix)]
+fn interrupt(child: &mut std::process::Child, signal: &str) -> std::process::ExitStatus {
+    send(child, signal);
+    for _ in 0..500 {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let _ = child.kill();
+    panic!("SIG{signal} did not end the run within 5 s");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_short_trace_interrupted_before_its_outputs_writes_none_and_ends_with_130() {
+    // The image comes through a FIFO, so the signal lands while the run waits for it; a
+    // trace of a small image has no thread waiting for signals and reads their flag
+    // before its outputs (SIGINT and SIGTERM alike).
+    for signal in ["INT", "TERM"] {
+        let dir = scratch(&format!("interrupt-short-{signal}"));
+        let fifo = dir.join("in.png");
+        assert!(Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success());
+        let (out, report) = (dir.join("out.svg"), dir.join("out.json"));
+        let child = bin()
+            .arg("trace")
+            .arg(&fifo)
+            .arg("-o")
+            .arg(&out)
+            .arg("--report")
+            .arg(&report)
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        send(&child, signal);
+        let mut png = Vec::new();
+        bar()
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .unwrap();
+        std::fs::write(&fifo, &png).unwrap();
+        let result = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(130), "{signal}: {err}");
+        assert!(err.contains("interrupted"), "{err}");
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n != "in.png")
+            .collect();
+        assert!(left.is_empty(), "{signal}: {left:?}");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_trace_waiting_for_standard_input_ends_at_once_when_interrupted() {
+    // Reading standard input may block: a thread waits for the signal and ends the run.
+    let dir = scratch("interrupt-stdin");
+    let out = dir.join("out.svg");
+    let mut child = bin()
+        .arg("trace")
+        .arg("-")
+        .arg("-o")
+        .arg(&out)
+        .stdin(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    // Standard input stays open: only the signal can end the run.
+    let status = interrupt(&mut child, "TERM");
+    assert_eq!(status.code(), Some(130));
+    assert!(!out.exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn a_long_trace_ends_at_once_when_interrupted() {
+    // Random pixels: a quarter of a million specks, seconds of work.
+    let dir = scratch("interrupt-long");
+    let input = dir.join("noise.png");
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let img = GrayImage::from_fn(1000, 1000, |_, _| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        Luma([if state & 1 == 0 { 0 } else { 255 }])
+    });
+    img.save(&input).unwrap();
+    let out = dir.join("noise.svg");
+    let mut child = bin()
+        .arg("trace")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(400));
+    let sent = std::time::Instant::now();
+    let status = interrupt(&mut child, "INT");
+    let waited = sent.elapsed();
+    assert_eq!(status.code(), Some(130));
+    assert!(waited < std::time::Duration::from_millis(500), "{waited:?}");
+    assert!(!out.exists());
 }
 
 /// A `width`×`height` image of 2×2 specks, one every 4 px: one contour of four segments

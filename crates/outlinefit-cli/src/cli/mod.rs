@@ -7,6 +7,7 @@ mod centerline;
 mod colour;
 mod compare;
 mod format;
+pub(crate) mod interrupt;
 mod merge;
 mod messages;
 mod output;
@@ -123,6 +124,10 @@ pub(crate) fn run() -> anyhow::Result<i32> {
     let mut matches = Cli::command().get_matches_from(args);
     let cli = Cli::from_arg_matches_mut(&mut matches)
         .unwrap_or_else(|e| e.format(&mut Cli::command()).exit());
+    if !matches!(cli.command, Command::Trace(_)) {
+        // Every other command may run long; `trace` decides by its image.
+        interrupt::watch();
+    }
     match cli.command {
         Command::Trace(args) => trace::run(&args),
         Command::Batch(args) => batch::run(&args),

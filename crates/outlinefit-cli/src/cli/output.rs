@@ -102,6 +102,8 @@ pub(crate) fn write_output<F>(target: &Path, fill: F) -> anyhow::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
+    // A run interrupted while no thread waited for the signal ends before this output.
+    super::interrupt::check();
     if is_dash(target) {
         write_stdout(fill)
     } else {

@@ -5,6 +5,7 @@ use super::args::FitArgs;
 use super::centerline::{centerline_problem, centerline_warnings, ModeArgs};
 use super::colour::{colour_problem, colour_warnings, ColourArgs};
 use super::format::{is_known_ending, FormatArgs};
+use super::interrupt;
 use super::messages::{fidelity_problem, trace_warnings};
 use super::output::{check_distinct, is_dash, not_regular, resolve_output, write_output};
 use super::progress::TerminalProgress;
@@ -104,6 +105,17 @@ fn check_report_name(option: &str, path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Largest input file (bytes) decoded without a thread waiting for Ctrl-C (see
+/// `interrupt`): decoding is the one long step before the trace reports progress.
+const QUICK_INPUT_BYTES: u64 = 1 << 20;
+
+/// Whether the fit is the default least squares at curvature breaks, whose time follows
+/// the image's size.
+fn quick_fit(config: &outlinefit::Config) -> bool {
+    config.optimizer == outlinefit::Method::Lsq
+        && config.breaks == outlinefit::BreakPlacement::Curvature
+}
+
 pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     let config = args.fit.config()?;
     config.validate()?;
@@ -179,6 +191,14 @@ pub(crate) fn run(args: &TraceArgs) -> anyhow::Result<i32> {
     } else {
         args.input.display().to_string()
     };
+    // A run that may take long gets a thread that ends it as soon as Ctrl-C comes; the
+    // others read the signal's flag at each report of progress and before each output,
+    // and start the thread once they have run for a while (see `interrupt`).
+    let large_file = || std::fs::metadata(&args.input).is_ok_and(|m| m.len() > QUICK_INPUT_BYTES);
+    if from_stdin || colour.is_some() || centerline.is_some() || !quick_fit(&config) || large_file()
+    {
+        interrupt::watch();
+    }
     let stdin_bytes = if from_stdin {
         let mut bytes = Vec::new();
         std::io::stdin()
