@@ -178,14 +178,15 @@ impl Tally {
     }
 }
 
-/// True when every block's paper level, as [`PaperMap::new`] finds it, lies below
+/// True when every block's paper level in the map [`PaperMap::new`] would make lies below
 /// `threshold`: then no block is dark paper, [`PaperMap::is_uneven`] is false at that
-/// threshold whatever the rest of the map (the 3 × 3 median picks one of the levels),
-/// and the map is not needed. A block's level lies below the first bin that is dark
-/// paper exactly when at least [`paper_rank`] of its samples lie in lighter bins: one
-/// count per block over the same samples, instead of a histogram. False as soon as one
-/// block falls short (the map then decides); a clean page, the common case, is light
-/// everywhere.
+/// threshold whatever the rest of the map, and the map is not needed. A block's own level
+/// lies below the first bin that is dark paper exactly when at least [`paper_rank`] of its
+/// samples lie in lighter bins: one count per block over the same samples, instead of a
+/// histogram. The map's level is the 3 × 3 median of its blocks' own, which lies below
+/// the threshold exactly when more than half of them do ([`median_is_light`]): a glyph's
+/// stroke that fills a block or two leaves the page light, a clean page (the common case)
+/// is light everywhere.
 pub(super) fn paper_is_light(
     coverage: &Levels,
     width: usize,
@@ -214,6 +215,8 @@ pub(super) fn paper_is_light(
         Levels::Word(..) => None,
     };
     let mut row = vec![0.0f32; if light_bytes.is_some() { 0 } else { width }];
+    // Whether each block's own paper level lies below the threshold, row-major.
+    let mut own = Vec::with_capacity(rows * cols);
     for by in 0..rows {
         light.fill(0);
         samples.fill(0);
@@ -239,11 +242,37 @@ pub(super) fn paper_is_light(
                 }
             }
         }
-        if light.iter().zip(&samples).any(|(&l, &n)| l < paper_rank(n)) {
-            return false;
-        }
+        // A block without samples (a last column narrower than the sample step) has the
+        // map's level 0, the lightest bin.
+        own.extend(light.iter().zip(&samples).map(|(&l, &n)| {
+            if n == 0 {
+                dark > 0
+            } else {
+                l >= paper_rank(n)
+            }
+        }));
     }
-    true
+    median_is_light(&own, rows, cols)
+}
+
+/// Whether the 3 × 3 median of every block (over the blocks that exist, as
+/// [`PaperMap::median_filter`] takes it: the element at index k / 2 of k sorted levels)
+/// lies below the threshold, given whether each block's own level does (`light`,
+/// row-major over `rows × cols`): the median of k levels does exactly when at least
+/// k / 2 + 1 of them do.
+fn median_is_light(light: &[bool], rows: usize, cols: usize) -> bool {
+    (0..rows).all(|r| {
+        (0..cols).all(|c| {
+            let (mut k, mut n) = (0, 0);
+            for rr in r.saturating_sub(1)..=(r + 1).min(rows - 1) {
+                for cc in c.saturating_sub(1)..=(c + 1).min(cols - 1) {
+                    k += 1;
+                    n += usize::from(light[rr * cols + cc]);
+                }
+            }
+            n > k / 2
+        })
+    })
 }
 
 /// The paper's coverage per block, row-major over a `cols × rows` grid of `block` px.
@@ -616,11 +645,12 @@ mod tests {
         }
     }
 
-    /// [`paper_is_light`] answers for the map without building it: where it says light,
-    /// every block of the map lies below the threshold and the page is not uneven; it
-    /// says so on a clean page, not on a lit one; on a page of one level it is exactly
-    /// "that level lies below the threshold", bin boundaries included; 8-bit and 16-bit
-    /// levels of the same coverage agree.
+    /// [`paper_is_light`] answers for the map without building it: it says light exactly
+    /// when every block of the map (after the median) lies below the threshold, and then
+    /// the page is not uneven; it says so on a clean page and beside bars of ink that
+    /// fill a column and a row of blocks, not on a lit page or a large disk of ink; on a
+    /// page of one level it is exactly "that level lies below the threshold", bin
+    /// boundaries included; 8-bit and 16-bit levels of the same coverage agree.
     #[test]
     fn paper_that_is_light_everywhere_needs_no_map() {
         let disk = |w: usize, h: usize| -> Vec<f32> {
@@ -638,7 +668,22 @@ mod tests {
                 })
                 .collect()
         };
+        // A stroke 40 px wide and a bar 24 px tall beside it: each fills a column or a
+        // row of the 16 px blocks, as a glyph's strokes do.
+        let bars = |w: usize, h: usize| -> Vec<f32> {
+            (0..w * h)
+                .map(|i| {
+                    let (x, y) = (i % w, i / w);
+                    if (100..140).contains(&x) || (x < 80 && (60..84).contains(&y)) {
+                        0.95
+                    } else {
+                        0.03
+                    }
+                })
+                .collect()
+        };
         let pages = [
+            (bars(256, 256), 256, 256),
             (lit_page(400, 300, 0.0, 0.7), 400, 300),
             (lit_page(1601, 700, 0.05, 0.6), 1601, 700),
             (lit_page(203, 130, 0.05, 0.15), 203, 130),
@@ -662,16 +707,22 @@ mod tests {
                     paper_is_light(&as_bytes, w, h, t),
                     "{w} × {h} at {t}"
                 );
+                assert_eq!(
+                    light,
+                    map.paper.iter().all(|&p| p < t as f32),
+                    "{w} × {h} at {t}"
+                );
                 if light {
-                    assert!(map.paper.iter().all(|&p| p < t as f32), "{w} × {h} at {t}");
                     assert!(!map.is_uneven(t, None), "{w} × {h} at {t}");
                 }
             }
         }
-        assert!(!paper_is_light(&levels_of(&pages[0].0), 400, 300, 0.5));
-        assert!(paper_is_light(&levels_of(&pages[2].0), 203, 130, 0.5));
-        // Blocks inside the disk are all ink: their "paper" is dark, and the map decides.
-        assert!(!paper_is_light(&levels_of(&pages[3].0), 176, 251, 0.5));
+        // Blocks filled by the bars are dark on their own, light after the median.
+        assert!(paper_is_light(&levels_of(&pages[0].0), 256, 256, 0.5));
+        assert!(!paper_is_light(&levels_of(&pages[1].0), 400, 300, 0.5));
+        assert!(paper_is_light(&levels_of(&pages[3].0), 203, 130, 0.5));
+        // The middle of the disk is all ink: its paper is dark even after the median.
+        assert!(!paper_is_light(&levels_of(&pages[4].0), 176, 251, 0.5));
         for level in [0u8, 1, 37, 128, 254, 255] {
             let (w, h) = (97, 61);
             let cov = Levels::bytes(vec![level; w * h], |b| f32::from(b) / 255.0);
