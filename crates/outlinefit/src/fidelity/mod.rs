@@ -452,6 +452,12 @@ fn run_end(col: usize, x: f64, w: usize) -> usize {
 /// number of threads.
 const PARALLEL_POINTS: usize = 20_000;
 
+/// Most point-to-edge distances (points to measure × edges of their contour's drawn path)
+/// taken one by one rather than from the edge grid: building the grid costs about as
+/// much per edge of the whole drawing as a few distances, and the first check of a
+/// glyph measures two or three points of each contour.
+const DIRECT_EDGE_TESTS: usize = 2048;
+
 /// The rows of the image are split into this many bands (of at least
 /// [`CROSSING_BAND`] rows) whose crossings with the drawn paths are found in parallel; a
 /// path that reaches two bands is visited by both, each keeping its own rows.
@@ -520,24 +526,42 @@ fn compare_drawing(
             .collect();
         Dirty::new(w, h, &changed, reach)
     });
-    let grid = match &dirty {
-        None => EdgeGrid::new(&polylines, whole, |_| true),
-        Some(d) => {
-            // Whole contours away from the tiles first, then edges.
-            let near: Vec<bool> = boxes
-                .iter()
-                .map(|b| b.is_some_and(|b| d.near_box(b, reach)))
-                .collect();
-            EdgeGrid::new(&polylines, d.bounds(reach).unwrap_or(whole), |e| {
-                near[e.contour as usize] && d.near_box(edge_box(e), reach)
-            })
-        }
+    // Built when first asked on a small drawing: a first check of a glyph often measures
+    // a few points only, directly (see `DIRECT_EDGE_TESTS`), and finds no pixel that
+    // needs it.
+    let grid_cell = std::sync::OnceLock::new();
+    let grid = || {
+        grid_cell.get_or_init(|| match &dirty {
+            None => EdgeGrid::new(&polylines, whole, |_| true),
+            Some(d) => {
+                // Whole contours away from the tiles first, then edges.
+                let near: Vec<bool> = boxes
+                    .iter()
+                    .map(|b| b.is_some_and(|b| d.near_box(b, reach)))
+                    .collect();
+                EdgeGrid::new(&polylines, d.bounds(reach).unwrap_or(whole), |e| {
+                    near[e.contour as usize] && d.near_box(edge_box(e), reach)
+                })
+            }
+        })
     };
     // Every edge, for what the partial grid cannot answer (rarely needed).
     let full_grid = std::sync::OnceLock::new();
     let full = || full_grid.get_or_init(|| EdgeGrid::new(&polylines, whole, |_| true));
 
     let parallel = contours.iter().map(|c| c.points.len()).sum::<usize>() >= PARALLEL_POINTS;
+    if parallel {
+        // Built before the parallel passes: built inside one, on the pool itself, its
+        // builder could take up another contour's task that asks for it again. (A large
+        // drawing needs it anyway.)
+        grid();
+    }
+    if parallel {
+        // Built before the parallel passes: built inside one, on the pool itself, its
+        // builder could take up another contour's task that asks for it again. (A large
+        // drawing needs it anyway.)
+        grid();
+    }
 
     // 1. Deviation of every data point from its own contour's drawn path (the grid holds
     // every edge of a changed contour).
@@ -552,7 +576,7 @@ fn compare_drawing(
             return (0.0, Vec::new());
         }
         let limit = limits.deviation_of(c);
-        let at = |&p: &Point| match grid.nearest(p, deviation_reach, Some(i as u32)) {
+        let at = |&p: &Point| match grid().nearest(p, deviation_reach, Some(i as u32)) {
             Some((d, _)) => d,
             None => distance_to_closed_polyline(p, &polylines[i]),
         };
@@ -577,6 +601,15 @@ fn compare_drawing(
         // alone, an unbounded one where there are any, often near 0, made the 4096 px
         // horse, with one rational segment of 48 points, measure 26 500 of its 30 900.)
         let measure_all = |ks: &[usize]| -> Vec<f64> {
+            // A few points are measured on the contour's own drawn path edge by edge:
+            // the same distances (the nearest edge's, by the same formula), without the
+            // grid.
+            if ks.len() * polylines[i].len() <= DIRECT_EDGE_TESTS {
+                return ks
+                    .iter()
+                    .map(|&k| distance_to_closed_polyline(c.points[k], &polylines[i]))
+                    .collect();
+            }
             if big {
                 ks.par_iter().map(|&k| at(&c.points[k])).collect()
             } else {
@@ -697,7 +730,7 @@ fn compare_drawing(
                             let centre = Point::new((col + k) as f64 + 0.5, row as f64 + 0.5);
                             let on_row = before.is_some_and(|x| centre.x - x < reach)
                                 || after.is_some_and(|x| x - centre.x < reach);
-                            if !on_row && !grid.any_within(centre, far_limit) {
+                            if !on_row && !grid().any_within(centre, far_limit) {
                                 out.0.push(index);
                             } else if c & DECIDED != 0 {
                                 out.1.push(index);
@@ -768,7 +801,7 @@ fn compare_drawing(
     // beside the tiles looked at again.
     let grid_for = |pixels: &[u32]| match &dirty {
         Some(d) if !pixels.iter().all(|&p| d.touches(p)) => full(),
-        _ => &grid,
+        _ => grid(),
     };
     // Records a region of disagreement: the largest one's box, and the contours
     // responsible when it counts.
