@@ -241,22 +241,27 @@ fn fit_window(window: &[WindowPoint], sigma: f64, linear: bool) -> Option<(f64, 
     }
 }
 
-/// How far (px) the fitted curve puts a crack's foreground centre outside, or its
-/// background centre inside; 0 when every crack in the window is respected.
-fn fit_violation(window: &[WindowPoint], sigma: f64, (a, b, c): (f64, f64, f64)) -> f64 {
+/// Whether the fitted curve puts no crack's foreground centre outside it, nor its
+/// background centre inside, by more than `slack` px (stops at the first that is).
+fn respects_cracks(
+    window: &[WindowPoint],
+    sigma: f64,
+    (a, b, c): (f64, f64, f64),
+    slack: f64,
+) -> bool {
     let reach = BANDWIDTH_REACH * sigma;
     let reach_squared = reach * reach;
     let curve = |u: f64| a + b * u + c * u * u;
     window
         .iter()
         .filter(|w| w.distance_squared < reach_squared)
-        .map(|w| {
+        .all(|w| {
             let h = w.half_normal;
             let inner = curve(w.u - h.x) - (w.v - h.y);
             let outer = (w.v + h.y) - curve(w.u + h.x);
-            inner.max(outer)
+            // `max` as the fold over the window took it: a NaN side counts as the other.
+            inner.max(outer) <= slack || inner.max(outer).is_nan()
         })
-        .fold(0.0, f64::max)
 }
 
 /// One crack in a bilevel regression window, in the frame of the window's origin.
@@ -565,7 +570,7 @@ impl Workspace {
             let mut sigma = BANDWIDTHS[0];
             for candidate in candidates {
                 let consistent = fit_window(window, candidate, cut)
-                    .is_some_and(|fit| fit_violation(window, candidate, fit) <= FIT_PIXEL_SLACK);
+                    .is_some_and(|fit| respects_cracks(window, candidate, fit, FIT_PIXEL_SLACK));
                 if consistent {
                     sigma = candidate;
                     break;
