@@ -215,6 +215,24 @@ pub(super) fn paper_is_light(
         Levels::Word(..) => None,
     };
     let mut row = vec![0.0f32; if light_bytes.is_some() { 0 } else { width }];
+    // Each block column's samples on a sampled row, counted once.
+    let per_row: Vec<u32> = (0..cols)
+        .map(|bx| {
+            let (start, end) = grid.columns(bx, width);
+            (end - start).div_ceil(step) as u32
+        })
+        .collect();
+    // The light levels as one range when they are one (a coverage that falls as the level
+    // rises, or rises, makes them the levels above or below one): counted by comparison
+    // rather than by table, every sample when the step is 1.
+    let light_range = light_bytes.as_ref().and_then(|(_, is_light)| {
+        let first = is_light.iter().position(|&l| l == 1)?;
+        let last = is_light.iter().rposition(|&l| l == 1)?;
+        is_light[first..=last]
+            .iter()
+            .all(|&l| l == 1)
+            .then_some((first as u8, (last - first) as u8))
+    });
     // Whether each block's own paper level lies below the threshold, row-major.
     let mut own = Vec::with_capacity(rows * cols);
     for by in 0..rows {
@@ -226,11 +244,18 @@ pub(super) fn paper_is_light(
                     let line = &levels[y * width..(y + 1) * width];
                     for (bx, (l, n)) in light.iter_mut().zip(&mut samples).enumerate() {
                         let (start, end) = grid.columns(bx, width);
-                        let run = line[start..end].iter().step_by(step);
-                        *n += run.len() as u32;
-                        *l += run
-                            .map(|&v| u32::from(is_light[usize::from(v)]))
-                            .sum::<u32>();
+                        *n += per_row[bx];
+                        *l += match (step, light_range) {
+                            (1, Some((low, span))) => line[start..end]
+                                .iter()
+                                .map(|&v| u32::from(v.wrapping_sub(low) <= span))
+                                .sum::<u32>(),
+                            _ => line[start..end]
+                                .iter()
+                                .step_by(step)
+                                .map(|&v| u32::from(is_light[usize::from(v)]))
+                                .sum::<u32>(),
+                        };
                     }
                 }
                 None => {
