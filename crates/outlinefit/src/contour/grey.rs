@@ -4,6 +4,7 @@
 
 use super::lines::fit_line;
 use super::lines::intersect;
+use super::lines::lap;
 use super::lines::norm;
 use super::lines::turn_angle;
 use super::lines::unit;
@@ -603,7 +604,7 @@ impl Workspace {
             cumulative: &self.values,
         };
         let arc = |k: i64| walk.arc(k);
-        let at = |k: i64| self.points[k.rem_euclid(nn) as usize];
+        let at = |k: i64| self.points[lap(k, nn).0 as usize];
         let back_by = |i: i64, length: f64| walk.back_by(i, length);
         let ahead_by = |i: i64, length: f64| walk.ahead_by(i, length);
         // Chord angle at every point (two pointers).
@@ -637,7 +638,7 @@ impl Workspace {
             });
             chord_ends.push((b, a));
         }
-        let angle_at = |k: i64| angles[k.rem_euclid(nn) as usize];
+        let angle_at = |k: i64| angles[lap(k, nn).0 as usize];
         // (first removed unrolled index, removed count, new point)
         let mut edits: Vec<(i64, i64, Point)> = Vec::new();
         let mut last_end = i64::MIN;

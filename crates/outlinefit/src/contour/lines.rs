@@ -92,6 +92,22 @@ pub(super) fn intersect(a: Line, b: Line) -> Option<Point> {
     )
 }
 
+/// `(k.rem_euclid(n), k.div_euclid(n))` for `n > 0`, without the division for an unrolled
+/// index within a lap of [0, n), where the walks along a closed outline stay (a division
+/// is tens of cycles, and they take several per point).
+#[inline]
+pub(super) fn lap(k: i64, n: i64) -> (i64, i64) {
+    if (0..n).contains(&k) {
+        (k, 0)
+    } else if (n..2 * n).contains(&k) {
+        (k - n, 1)
+    } else if (-n..0).contains(&k) {
+        (k + n, -1)
+    } else {
+        (k.rem_euclid(n), k.div_euclid(n))
+    }
+}
+
 /// Arc length along a closed polyline at unrolled indices (index k + n is point k one lap
 /// later).
 pub(super) struct ArcWalk<'a> {
@@ -104,7 +120,8 @@ impl ArcWalk<'_> {
     pub(super) fn arc(&self, k: i64) -> f64 {
         let n = self.cumulative.len() as i64 - 1;
         let total = self.cumulative[n as usize];
-        self.cumulative[k.rem_euclid(n) as usize] + total * k.div_euclid(n) as f64
+        let (index, laps) = lap(k, n);
+        self.cumulative[index as usize] + total * laps as f64
     }
 
     /// The last index at least `length` of arc before `i` (at most one lap back).

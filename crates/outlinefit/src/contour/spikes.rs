@@ -2,6 +2,7 @@
 //! meet when the coverage supports it.
 
 use super::lines::fit_line;
+use super::lines::lap;
 use super::lines::turn_angle;
 use super::lines::unit;
 use super::lines::ArcWalk;
@@ -61,7 +62,7 @@ pub(super) fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
     }
     let nn = n as i64;
     let walk = ArcWalk { cumulative: &arc };
-    let at = |k: i64| points[k.rem_euclid(nn) as usize];
+    let at = |k: i64| points[lap(k, nn).0 as usize];
     let back_by = |i: i64, len: f64| walk.back_by(i, len);
     let ahead_by = |i: i64, len: f64| walk.ahead_by(i, len);
     let limit = SPIKE_TURN_DEG.to_radians();
@@ -89,7 +90,7 @@ pub(super) fn extend_spikes(points: &mut Vec<Point>, bitmap: &Bitmap) {
             continue;
         }
         let (b, a) = (back_by(i, SPIKE_REACH), ahead_by(i, SPIKE_REACH));
-        let t_at = |k: i64| turn[k.rem_euclid(nn) as usize];
+        let t_at = |k: i64| turn[lap(k, nn).0 as usize];
         if !((b + 1..i).all(|k| t > t_at(k)) && (i + 1..a).all(|k| t >= t_at(k))) {
             continue;
         }
@@ -232,9 +233,9 @@ pub(super) fn mark_edits(edits: &[(i64, i64, Point)], n: usize) -> (Vec<bool>, V
     let mut insert_at = vec![None; n];
     for &(first, count, x) in edits {
         for k in first..first + count {
-            remove[k.rem_euclid(nn) as usize] = true;
+            remove[lap(k, nn).0 as usize] = true;
         }
-        insert_at[first.rem_euclid(nn) as usize] = Some(x);
+        insert_at[lap(first, nn).0 as usize] = Some(x);
     }
     (remove, insert_at)
 }

@@ -730,3 +730,18 @@ fn refining_while_scanning_gives_the_same_contours() {
     let hole = &plain.contours[island.parent.unwrap()];
     assert!(hole.is_hole && hole.parent.is_some());
 }
+
+/// [`lines::lap`] is `rem_euclid` and `div_euclid`, within a lap of the outline and far
+/// outside it.
+#[test]
+fn a_lap_is_the_euclidean_remainder_and_quotient() {
+    for n in [1i64, 2, 3, 7, 64, 1000] {
+        for k in -3 * n - 2..=4 * n + 2 {
+            assert_eq!(
+                super::lines::lap(k, n),
+                (k.rem_euclid(n), k.div_euclid(n)),
+                "{k} of {n}"
+            );
+        }
+    }
+}
