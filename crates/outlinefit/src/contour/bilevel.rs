@@ -7,6 +7,7 @@ use super::lines::intersect;
 use super::lines::norm;
 use super::lines::turn_angle;
 use super::lines::unit;
+use super::lines::wrap;
 use super::lines::Line;
 use super::mask::Crack;
 use super::mask::PaddedMask;
@@ -147,7 +148,7 @@ pub(super) fn smoothed_cracks(cracks: &[Crack]) -> Vec<Point> {
     let mut next = pts.clone();
     for _ in 0..3 {
         for i in 0..n {
-            next[i] = (pts[(i + n - 1) % n] + pts[i] * 2.0 + pts[(i + 1) % n]) * 0.25;
+            next[i] = (pts[wrap(i + n - 1, n)] + pts[i] * 2.0 + pts[wrap(i + 1, n)]) * 0.25;
         }
         std::mem::swap(&mut pts, &mut next);
     }
@@ -394,8 +395,8 @@ impl Workspace {
                 if self.anchors[i] {
                     continue;
                 }
-                let a = src[(i + n - 1) % n];
-                let b = src[(i + 1) % n];
+                let a = src[wrap(i + n - 1, n)];
+                let b = src[wrap(i + 1, n)];
                 self.points[i] = (a + src[i] * 2.0 + b) * 0.25;
             }
         }
@@ -406,8 +407,8 @@ impl Workspace {
         let n = self.points.len();
         self.tangents.clear();
         for i in 0..n {
-            let prev = (i + n - 1) % n;
-            let next = (i + 1) % n;
+            let prev = wrap(i + n - 1, n);
+            let next = wrap(i + 1, n);
             let a = if self.anchors[prev] && !self.anchors[i] {
                 i
             } else {
@@ -491,14 +492,14 @@ impl Workspace {
         let half = n / 2;
         add(i);
         let mut back = 0;
-        while back < half && add((i + n - back - 1) % n) {
+        while back < half && add(wrap(i + n - back - 1, n)) {
             back += 1;
         }
         let mut ahead = 0;
-        while ahead + back < n - 1 && ahead < half && add((i + ahead + 1) % n) {
+        while ahead + back < n - 1 && ahead < half && add(wrap(i + ahead + 1, n)) {
             ahead += 1;
         }
-        self.anchors[(i + n - back - 1) % n] || self.anchors[(i + ahead + 1) % n]
+        self.anchors[wrap(i + n - back - 1, n)] || self.anchors[wrap(i + ahead + 1, n)]
     }
 
     /// Bilevel: the weight of every crack for the current tangents (run weight × precision
@@ -536,16 +537,16 @@ impl Workspace {
             // The chords stop short of corners; next to one, the curvature is left to the
             // consistency test.
             let reach_back = (1..=k)
-                .find(|&j| self.anchors[(i + n - j) % n])
+                .find(|&j| self.anchors[wrap(i + n - j, n)])
                 .unwrap_or(k + 1)
                 - 1;
             let reach_ahead = (1..=k)
-                .find(|&j| self.anchors[(i + j) % n])
+                .find(|&j| self.anchors[wrap(i + j, n)])
                 .unwrap_or(k + 1)
                 - 1;
             let (kb, ka) = (reach_back.min(reach_ahead), reach_back.min(reach_ahead));
-            let back = self.points[i] - self.points[(i + n - kb) % n];
-            let ahead = self.points[(i + ka) % n] - self.points[i];
+            let back = self.points[i] - self.points[wrap(i + n - kb, n)];
+            let ahead = self.points[wrap(i + ka, n)] - self.points[i];
             let arc = 0.5 * (norm(back) + norm(ahead));
             let curvature = if arc > 0.0 && kb >= 3 {
                 turn_angle(back, ahead) / arc
