@@ -7,13 +7,13 @@ use super::lines::intersect;
 use super::lines::norm;
 use super::lines::turn_angle;
 use super::lines::unit;
-use super::lines::wrap;
 use super::lines::Line;
 use super::mask::Crack;
 use super::mask::PaddedMask;
 use super::workspace::Workspace;
 use crate::geom::floor_i64;
 use crate::geom::signed_area;
+use crate::geom::wrap;
 use crate::geom::Point;
 use crate::linalg::{cramer2, det3};
 

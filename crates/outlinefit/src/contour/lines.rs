@@ -108,18 +108,6 @@ pub(super) fn lap(k: i64, n: i64) -> (i64, i64) {
     }
 }
 
-/// `x % n` for `x < 2n`: an index at most one lap past the end of a closed outline of `n`
-/// points, wrapped by a comparison instead of a division.
-#[inline]
-pub(super) fn wrap(x: usize, n: usize) -> usize {
-    debug_assert!(x < 2 * n);
-    if x >= n {
-        x - n
-    } else {
-        x
-    }
-}
-
 /// Arc length along a closed polyline at unrolled indices (index k + n is point k one lap
 /// later).
 pub(super) struct ArcWalk<'a> {

@@ -732,7 +732,7 @@ fn refining_while_scanning_gives_the_same_contours() {
 }
 
 /// [`lines::lap`] is `rem_euclid` and `div_euclid`, within a lap of the outline and far
-/// outside it; [`lines::wrap`] is the remainder within one lap past the end.
+/// outside it; [`crate::geom::wrap`] is the remainder within one lap past the end.
 #[test]
 fn a_lap_is_the_euclidean_remainder_and_quotient() {
     for n in [1i64, 2, 3, 7, 64, 1000] {
@@ -745,7 +745,7 @@ fn a_lap_is_the_euclidean_remainder_and_quotient() {
         }
         let m = n as usize;
         for x in 0..2 * m {
-            assert_eq!(super::lines::wrap(x, m), x % m, "{x} of {m}");
+            assert_eq!(crate::geom::wrap(x, m), x % m, "{x} of {m}");
         }
     }
 }
