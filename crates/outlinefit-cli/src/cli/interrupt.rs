@@ -15,8 +15,8 @@
 //!   at every unmap and at exit): a twelfth of tracing a 64 px glyph in its own process,
 //!   nothing beside a run of 50 ms.
 //!
-//! Either way a second signal while the first is being handled ends the process at once
-//! with status 130.
+//! Until the thread runs, a second signal ends the process at once with status 130 (the
+//! first only set the flag); then the thread handles the first as it comes.
 
 #[cfg(unix)]
 mod imp {

@@ -44,7 +44,7 @@ impl TerminalProgress {
 
     /// Ends the run if Ctrl-C came; once the trace has run long enough, starts the thread
     /// that waits for it and draws the bar from now on.
-    fn show_if_due(&self) {
+    fn on_report(&self) {
         interrupt::check();
         if !self.watched.load(Ordering::Relaxed)
             && self.started.elapsed() >= WATCH_AFTER
@@ -84,12 +84,12 @@ impl Progress for TerminalProgress {
         self.bar.set_message(stage.describe());
         self.bar.set_length(total);
         self.bar.set_position(0);
-        self.show_if_due();
+        self.on_report();
     }
 
     fn advance(&self, done: u64) {
         self.bar.inc(done);
-        self.show_if_due();
+        self.on_report();
     }
 }
 
