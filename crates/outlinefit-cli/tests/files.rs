@@ -571,7 +571,7 @@ fn a_long_trace_ends_at_once_when_interrupted() {
     let status = interrupt(&mut child, "INT");
     let waited = sent.elapsed();
     assert_eq!(status.code(), Some(130));
-    assert!(waited < std::time::Duration::from_millis(500), "{waited:?}");
+    assert!(waited < std::time::Duration::from_secs(1), "{waited:?}");
     assert!(!out.exists());
 }
 
