@@ -21,10 +21,10 @@ const WATCH_AFTER: Duration = Duration::from_millis(50);
 /// A progress bar on standard error that appears only on a terminal, after
 /// [`SHOW_AFTER`].
 pub(crate) struct TerminalProgress {
-    bar: ProgressBar,
+    /// `None` when standard error is not a terminal: nothing is ever drawn, and the bar's
+    /// styles and counts are not kept either.
+    bar: Option<ProgressBar>,
     started: Instant,
-    /// False when standard error is not a terminal: nothing is ever drawn.
-    terminal: bool,
     shown: AtomicBool,
     /// Whether the thread that waits for Ctrl-C was started.
     watched: AtomicBool,
@@ -32,11 +32,12 @@ pub(crate) struct TerminalProgress {
 
 impl TerminalProgress {
     pub(crate) fn new() -> TerminalProgress {
-        let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
+        let bar = std::io::stderr()
+            .is_terminal()
+            .then(|| ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden()));
         TerminalProgress {
             bar,
             started: Instant::now(),
-            terminal: std::io::stderr().is_terminal(),
             shown: AtomicBool::new(false),
             watched: AtomicBool::new(false),
         }
@@ -52,23 +53,30 @@ impl TerminalProgress {
         {
             interrupt::watch();
         }
-        if self.terminal
-            && !self.shown.load(Ordering::Relaxed)
-            && self.started.elapsed() >= SHOW_AFTER
-            && !self.shown.swap(true, Ordering::Relaxed)
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        if let Some(bar) = &self.bar {
+            if !self.shown.load(Ordering::Relaxed)
+                && self.started.elapsed() >= SHOW_AFTER
+                && !self.shown.swap(true, Ordering::Relaxed)
+            {
+                bar.set_draw_target(ProgressDrawTarget::stderr());
+            }
         }
     }
 
     /// Removes the bar (before warnings are printed).
     pub(crate) fn finish(&self) {
-        self.bar.finish_and_clear();
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
     }
 }
 
 impl Progress for TerminalProgress {
     fn stage(&self, stage: Stage, total: u64) {
+        let Some(bar) = &self.bar else {
+            self.on_report();
+            return;
+        };
         // The check counts its rounds (most traces need one; the most is a bound, not
         // an estimate); a stage of unknown length shows its name and the time only.
         let template = if stage == Stage::Checking {
@@ -78,23 +86,25 @@ impl Progress for TerminalProgress {
         } else {
             "{msg:28} {bar:30} {percent:>3}% {elapsed_precise}"
         };
-        self.bar.set_style(
+        bar.set_style(
             ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
-        self.bar.set_message(stage.describe());
-        self.bar.set_length(total);
-        self.bar.set_position(0);
+        bar.set_message(stage.describe());
+        bar.set_length(total);
+        bar.set_position(0);
         self.on_report();
     }
 
     fn advance(&self, done: u64) {
-        self.bar.inc(done);
+        if let Some(bar) = &self.bar {
+            bar.inc(done);
+        }
         self.on_report();
     }
 }
 
 impl Drop for TerminalProgress {
     fn drop(&mut self) {
-        self.bar.finish_and_clear();
+        self.finish();
     }
 }
