@@ -82,6 +82,12 @@ fn path_box(svg: &str) -> [f64; 4] {
     b
 }
 
+/// Makes a FIFO at `path`.
+#[cfg(unix)]
+fn mkfifo(path: &Path) {
+    assert!(Command::new("mkfifo").arg(path).status().unwrap().success());
+}
+
 #[cfg(unix)]
 #[test]
 fn outputs_never_replace_devices_fifos_or_links() {
@@ -90,11 +96,7 @@ fn outputs_never_replace_devices_fifos_or_links() {
     write_png(&input);
     // A FIFO stays a FIFO (and the run does not hang on it).
     let fifo = dir.join("fifo.svg");
-    assert!(Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .unwrap()
-        .success());
+    mkfifo(&fifo);
     let (code, _, err) = run(bin().arg("trace").arg(&input).arg("-o").arg(&fifo));
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("FIFO"), "{err}");
@@ -485,11 +487,7 @@ fn a_short_trace_interrupted_before_its_outputs_writes_none_and_ends_with_130() 
     for signal in ["INT", "TERM"] {
         let dir = scratch(&format!("interrupt-short-{signal}"));
         let fifo = dir.join("in.png");
-        assert!(Command::new("mkfifo")
-            .arg(&fifo)
-            .status()
-            .unwrap()
-            .success());
+        mkfifo(&fifo);
         let (out, report) = (dir.join("out.svg"), dir.join("out.json"));
         let child = bin()
             .arg("trace")

@@ -289,14 +289,20 @@ fn median_is_light(light: &[bool], rows: usize, cols: usize) -> bool {
     (0..rows).all(|r| {
         (0..cols).all(|c| {
             let (mut k, mut n) = (0, 0);
-            for rr in r.saturating_sub(1)..=(r + 1).min(rows - 1) {
-                for cc in c.saturating_sub(1)..=(c + 1).min(cols - 1) {
-                    k += 1;
-                    n += usize::from(light[rr * cols + cc]);
-                }
+            for i in neighbourhood(r, c, rows, cols) {
+                k += 1;
+                n += usize::from(light[i]);
             }
             n > k / 2
         })
+    })
+}
+
+/// The row-major indices of the blocks of a `rows × cols` grid in the 3 × 3 neighbourhood
+/// of block (`r`, `c`), itself included: those that exist.
+fn neighbourhood(r: usize, c: usize, rows: usize, cols: usize) -> impl Iterator<Item = usize> {
+    (r.saturating_sub(1)..=(r + 1).min(rows - 1)).flat_map(move |rr| {
+        (c.saturating_sub(1)..=(c + 1).min(cols - 1)).map(move |cc| rr * cols + cc)
     })
 }
 
@@ -406,11 +412,7 @@ impl PaperMap {
         for r in 0..self.rows {
             for c in 0..self.cols {
                 near.clear();
-                for rr in r.saturating_sub(1)..=(r + 1).min(self.rows - 1) {
-                    for cc in c.saturating_sub(1)..=(c + 1).min(self.cols - 1) {
-                        near.push(self.paper[rr * self.cols + cc]);
-                    }
-                }
+                near.extend(neighbourhood(r, c, self.rows, self.cols).map(|i| self.paper[i]));
                 near.sort_by(f32::total_cmp);
                 out.push(near[near.len() / 2]);
             }
