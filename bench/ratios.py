@@ -5,10 +5,10 @@ vtracer, from one run on this machine.
 usage: python3 bench/ratios.py [--repeats N] [--keep DIR] [--skip-corpus] [--quality]
 
 Needs the benchmark folder beside the project (../shared/bench, or BENCH=DIR) with its
-corpus built (make_corpus.sh), potrace, GNU time (/usr/bin/time) and the release build
-(cargo build --release; OUTLINEFIT=PATH times another build of ours, e.g. the statically
-linked one of the README's "Start-up" paragraph). Inputs are made in a temporary folder
-(or DIR):
+corpus built (make_corpus.sh), scikit-image (pip install scikit-image), potrace, GNU
+time (/usr/bin/time) and the release build (cargo build --release; OUTLINEFIT=PATH
+times another build of ours, e.g. the statically linked one of the README's "Start-up"
+paragraph). Inputs are made in a temporary folder (or DIR):
 
   - scan:      a 600 dpi A4 page of 12-point serif text with scanner blur and noise
                (realworld/make_scan.py's scan.png, 4960 x 7016; potrace gets its scan.pbm);
@@ -205,6 +205,11 @@ def corpus(folder):
 def main():
     if not Path(OURS).exists():
         sys.exit(f"{OURS} missing: cargo build --release first")
+    for module, package in (("PIL", "pillow"), ("numpy", "numpy"), ("skimage", "scikit-image")):
+        try:
+            __import__(module)
+        except ImportError:
+            sys.exit(f"the inputs need Python's {package}: python3 -m pip install {package}")
     folder = Path(keep or tempfile.mkdtemp(prefix="outlinefit-ratios-"))
     folder.mkdir(parents=True, exist_ok=True)
     startup()
