@@ -190,6 +190,121 @@ pub fn fit_segment_from(
     }
 }
 
+/// A polynomial cubic whose rounds of parameter correction stopped early (see
+/// [`polynomial_rounds`]): its curve and feet after `rounds` rounds, within the bound the
+/// caller asked for; [`resume_polynomial`] runs the remaining rounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Stopped {
+    /// Rounds of parameter correction done.
+    pub rounds: usize,
+}
+
+/// A polynomial cubic (`settings` with fixed weights, no polish) fitted from its first
+/// rule's parameters as [`fit_segment`] fits it, except that after each round of
+/// parameter correction (before the last) `accept(curve, feet, farthest)` may stop it:
+/// the curve of that round is returned with its points' feet and the rounds done. A fit
+/// that is not stopped is exactly [`fit_segment`]'s. Deciding whether a run fits needs
+/// only a curve within the tolerance; most such runs are merged into longer ones later,
+/// and the few that become segments are finished by [`resume_polynomial`], which gives
+/// the same curve as the uninterrupted fit.
+pub fn fit_polynomial_until(
+    points: &[Point],
+    start: EndCondition,
+    end: EndCondition,
+    settings: &FitSettings,
+    accept: impl FnMut(&RationalCubic, &[f64], f64) -> bool,
+) -> (SegmentSolution, Option<Stopped>) {
+    debug_assert!(settings.fixed_weights() && settings.polish_iterations == 0);
+    if points.len() <= 3 {
+        return (fit_segment(points, start, end, settings), None);
+    }
+    let mut params = Vec::with_capacity(points.len());
+    parameters_into(points, settings.initial[0], &mut params);
+    polynomial_rounds(points, start, end, settings, params, 0, 0, accept)
+}
+
+/// Finishes a polynomial fit that [`fit_polynomial_until`] stopped after
+/// `stopped.rounds` rounds: the same curve, feet and evaluations as the uninterrupted fit.
+pub fn resume_polynomial(
+    points: &[Point],
+    start: EndCondition,
+    end: EndCondition,
+    settings: &FitSettings,
+    solution: SegmentSolution,
+    stopped: Stopped,
+) -> SegmentSolution {
+    let never = |_: &RationalCubic, _: &[f64], _: f64| false;
+    let SegmentSolution {
+        params,
+        evaluations,
+        ..
+    } = solution;
+    polynomial_rounds(
+        points,
+        start,
+        end,
+        settings,
+        params,
+        stopped.rounds,
+        evaluations,
+        never,
+    )
+    .0
+}
+
+/// The rounds of a polynomial fit from round `round` on, at parameters `params`: solve,
+/// project, and so on, as the loop of [`fit_segment_from`] runs them for one start at
+/// fixed weights, with `accept` asked after each projection but the last.
+#[allow(clippy::too_many_arguments)]
+fn polynomial_rounds(
+    points: &[Point],
+    start: EndCondition,
+    end: EndCondition,
+    settings: &FitSettings,
+    mut params: Vec<f64>,
+    mut round: usize,
+    mut evaluations: u64,
+    mut accept: impl FnMut(&RationalCubic, &[f64], f64) -> bool,
+) -> (SegmentSolution, Option<Stopped>) {
+    let weights = [settings.weight_range.0; 2];
+    let mut model = LinearModel::with_scale(points, &[], start, end, run_scale(points));
+    let mut gave_up = false;
+    let curve = loop {
+        model.set_params(params.iter().copied());
+        let (z, _) = model.solve(weights);
+        evaluations += 1;
+        let curve = model.curve(&z, weights);
+        if round >= settings.reparam_rounds {
+            break curve;
+        }
+        let far = reproject(&curve, points, &mut params);
+        round += 1;
+        if let Some(limit) = settings.give_up {
+            if far > limit / round as f64 {
+                gave_up = true;
+                break curve;
+            }
+        }
+        if round < settings.reparam_rounds && accept(&curve, &params, far) {
+            let solution = SegmentSolution {
+                curve,
+                params,
+                evaluations,
+            };
+            return (solution, Some(Stopped { rounds: round }));
+        }
+    };
+    if !gave_up {
+        reproject(&curve, points, &mut params);
+    }
+    let solution = SegmentSolution {
+        curve,
+        params,
+        evaluations,
+    };
+    (solution, None)
+}
+
 /// The model the weight search evaluates at `params`: on a long run the subset's
 /// `coarse` one, its Bernstein values computed here at every `stride`-th parameter,
 /// else the run's own `model`, which is already at `params`.

@@ -257,3 +257,77 @@ fn the_give_up_bound_tightens_with_each_round() {
     );
     assert_ne!(passed.curve, one_round.curve);
 }
+
+/// Half a period of a sine with a little wobble: a polynomial cubic comes within a few
+/// hundredths of a pixel, and its rounds of parameter correction still move it.
+fn wobbly_arc() -> Vec<Point> {
+    (0..=40)
+        .map(|i| {
+            let x = i as f64;
+            let wobble = 0.03 * (x * 1.7).sin();
+            Point::new(x, 8.0 * (x * std::f64::consts::PI / 40.0).sin() + wobble)
+        })
+        .collect()
+}
+
+#[test]
+fn a_stopped_polynomial_fit_resumes_to_the_uninterrupted_fit() {
+    let data = wobbly_arc();
+    let start = EndCondition::Tangent(Point::new(1.0, 0.6).normalized().unwrap());
+    let end = EndCondition::Tangent(Point::new(1.0, -0.6).normalized().unwrap());
+    let settings = FitSettings {
+        reparam_rounds: 4,
+        polish_iterations: 0,
+        give_up: Some(10.0),
+        ..FitSettings::polynomial()
+    };
+    let full = fit_segment(&data, start, end, &settings);
+    // Never stopped: exactly `fit_segment`'s fit.
+    let (unstopped, none) = fit_polynomial_until(&data, start, end, &settings, |_, _, _| false);
+    assert_eq!(none, None);
+    assert_eq!(unstopped.curve, full.curve);
+    assert_eq!(unstopped.params, full.params);
+    assert_eq!(unstopped.evaluations, full.evaluations);
+    for stop_at in 1..4 {
+        let mut asked = 0;
+        let mut farthest = Vec::new();
+        let (early, stopped) = fit_polynomial_until(&data, start, end, &settings, |c, u, far| {
+            asked += 1;
+            farthest.push((far, max_dist_at_params(c, &data, u)));
+            asked == stop_at
+        });
+        assert_eq!(stopped, Some(Stopped { rounds: stop_at }));
+        // The farthest foot it is told is the curve's farthest at the feet it is given.
+        for (far, at_params) in farthest {
+            assert!((far - at_params).abs() < 1e-12, "{far} {at_params}");
+        }
+        assert!(early.evaluations < full.evaluations);
+        assert_ne!(early.curve, full.curve, "round {stop_at} is not the last");
+        let resumed = resume_polynomial(
+            &data,
+            start,
+            end,
+            &settings,
+            early,
+            Stopped { rounds: stop_at },
+        );
+        assert_eq!(resumed.curve, full.curve, "stopped after round {stop_at}");
+        assert_eq!(resumed.params, full.params);
+        assert_eq!(resumed.evaluations, full.evaluations);
+    }
+    // The last round is never offered: it would save nothing.
+    let mut asked = 0;
+    let _ = fit_polynomial_until(&data, start, end, &settings, |_, _, _| {
+        asked += 1;
+        false
+    });
+    assert_eq!(asked, 3);
+}
+
+/// Largest |P(uᵢ) − Qᵢ| at the given parameters.
+fn max_dist_at_params(curve: &RationalCubic, data: &[Point], params: &[f64]) -> f64 {
+    data.iter()
+        .zip(params)
+        .map(|(q, &u)| curve.eval(u).distance(*q))
+        .fold(0.0, f64::max)
+}
