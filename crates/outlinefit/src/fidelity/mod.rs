@@ -556,12 +556,6 @@ fn compare_drawing(
         // drawing needs it anyway.)
         grid();
     }
-    if parallel {
-        // Built before the parallel passes: built inside one, on the pool itself, its
-        // builder could take up another contour's task that asks for it again. (A large
-        // drawing needs it anyway.)
-        grid();
-    }
 
     // 1. Deviation of every data point from its own contour's drawn path (the grid holds
     // every edge of a changed contour).
