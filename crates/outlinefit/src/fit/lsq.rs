@@ -4,9 +4,10 @@
 //! 1. Every break of the contour becomes a joint. A smooth joint gets one unit tangent,
 //!    estimated from the data around it (weighted quadratic fit in arc length), and both
 //!    neighbouring segments are fitted with that same tangent, so G1 holds exactly.
-//! 2. Each segment is fitted by [`fit_segment`]: a polynomial cubic first (control points
-//!    by least squares, parameters by projection), and where that misses the tolerance by
-//!    less than 4×, the weights of a rational cubic are searched in [0.01, 2.5].
+//! 2. Each segment is fitted by [`fit_segment`](super::solve::fit_segment): a polynomial
+//!    cubic first (control points by least squares, parameters by projection), and where
+//!    that misses the tolerance by less than 4×, the weights of a rational cubic are
+//!    searched in [0.01, 2.5].
 //! 3. A segment whose largest point-to-curve distance exceeds the tolerance is split at its
 //!    worst point (a new smooth joint) until every segment is within tolerance or too short
 //!    to split. While splitting, only short pieces (under [`SPLIT_WEIGHTS_POINTS`] data
@@ -19,6 +20,10 @@
 //! 5. A segment that still misses the tolerance but is too short to split gets a corner at
 //!    its worst point when both sides then fit, and the merge runs again around the new
 //!    corners.
+//! 6. While splitting and merging, a polynomial cubic only decides whether its run fits:
+//!    it stops at the first round of parameter correction within [`EARLY_STOP`] of the
+//!    tolerance, and only the pieces that end as segments run their remaining rounds
+//!    ([`finish_piece`]), which gives them the curve of the uninterrupted fit.
 //!
 //! No split or merge crosses a corner, so a contour with two or more corners is fitted run
 //! by run (corner to corner), in parallel on a large contour.

@@ -191,8 +191,8 @@ pub fn fit_segment_from(
 }
 
 /// A polynomial cubic whose rounds of parameter correction stopped early (see
-/// [`polynomial_rounds`]): its curve and feet after `rounds` rounds, within the bound the
-/// caller asked for; [`resume_polynomial`] runs the remaining rounds.
+/// [`fit_polynomial_until`]): its curve and feet after `rounds` rounds, within the bound
+/// the caller asked for; [`resume_polynomial`] runs the remaining rounds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Stopped {
     /// Rounds of parameter correction done.
