@@ -70,6 +70,23 @@ pub fn fit_segment_from(
         };
     }
     let warm = warm.filter(|w| w.len() == points.len());
+    // A polynomial cubic from one start: the rounds that `fit_polynomial_until` and
+    // `resume_polynomial` run too, so that a stopped and resumed fit is this one.
+    if settings.fixed_weights()
+        && settings.polish_iterations == 0
+        && (warm.is_some() || settings.initial.len() == 1)
+    {
+        let params = match warm {
+            Some(w) => w.to_vec(),
+            None => {
+                let mut p = Vec::with_capacity(points.len());
+                parameters_into(points, settings.initial[0], &mut p);
+                p
+            }
+        };
+        let never = |_: &RationalCubic, _: &[f64], _: f64| false;
+        return polynomial_rounds(points, start, end, settings, params, 0, 0, never).0;
+    }
     let scale = run_scale(points);
     let mut evaluations = 0;
     // Each run is an initial parameterisation (an index into `inits`) and start weights.
@@ -253,8 +270,8 @@ pub fn resume_polynomial(
 }
 
 /// The rounds of a polynomial fit from round `round` on, at parameters `params`: solve,
-/// project, and so on, as the loop of [`fit_segment_from`] runs them for one start at
-/// fixed weights, with `accept` asked after each projection but the last.
+/// project, and so on (the loop of [`fit_segment_from`] for one start at fixed weights,
+/// without its weight search), with `accept` asked after each projection but the last.
 #[allow(clippy::too_many_arguments)]
 fn polynomial_rounds(
     points: &[Point],
