@@ -262,9 +262,11 @@ pub(crate) fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point
     }
 }
 
-/// Fits the run of `points` from joint `a` to joint `b` the way the chain does: a
-/// polynomial cubic when it is within tolerance, otherwise (with `weights`) the weight
-/// search when that is better. `buf` receives the run's points.
+/// Fits the run of `points` from joint `a` to joint `b` as the chain's segments end up
+/// fitted: a polynomial cubic when it is within tolerance, otherwise (with `weights`)
+/// the weight search when that is better. `buf` receives the run's points. (The chain
+/// itself decides with [`decide_piece`] and finishes its segments with
+/// [`finish_piece`], to the same curves.)
 pub(super) fn fit_piece(
     points: &[Point],
     a: &JointSpec,
