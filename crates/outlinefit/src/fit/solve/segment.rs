@@ -216,11 +216,11 @@ pub struct Stopped {
     pub rounds: usize,
 }
 
-/// A polynomial cubic (`settings` with fixed weights, no polish) fitted from its first
-/// rule's parameters as [`fit_segment`] fits it, except that after each round of
+/// A polynomial cubic fitted as [`fit_segment`] fits it, except that after each round of
 /// parameter correction (before the last) `accept(curve, feet, farthest)` may stop it:
 /// the curve of that round is returned with its points' feet and the rounds done. A fit
-/// that is not stopped is exactly [`fit_segment`]'s. Deciding whether a run fits needs
+/// that is not stopped is exactly [`fit_segment`]'s; settings other than fixed weights,
+/// one initial rule and no polish are fitted whole, never stopped. Deciding whether a run fits needs
 /// only a curve within the tolerance; most such runs are merged into longer ones later,
 /// and the few that become segments are finished by [`resume_polynomial`], which gives
 /// the same curve as the uninterrupted fit.
@@ -231,8 +231,10 @@ pub fn fit_polynomial_until(
     settings: &FitSettings,
     accept: impl FnMut(&RationalCubic, &[f64], f64) -> bool,
 ) -> (SegmentSolution, Option<Stopped>) {
-    debug_assert!(settings.fixed_weights() && settings.polish_iterations == 0);
-    if points.len() <= 3 {
+    // Weights to search, several starts or a polish to run: fitted whole.
+    let one_run =
+        settings.fixed_weights() && settings.initial.len() == 1 && settings.polish_iterations == 0;
+    if points.len() <= 3 || !one_run {
         return (fit_segment(points, start, end, settings), None);
     }
     let mut params = Vec::with_capacity(points.len());
