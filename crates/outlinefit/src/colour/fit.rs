@@ -144,9 +144,14 @@ pub(crate) fn fit_boundary(
             })
             .unwrap_or(around)
     };
-    let growth = seg.points.len() - contour.points.len();
+    // The last point moved by as many points as the breaks added before it (fewer when
+    // they dropped some): an unsigned difference of the lengths would underflow then.
     let i0 = nearest(first, pad);
-    let i1 = nearest(last, pad + n - 1 + growth).max(i0 + 1);
+    let i1 = nearest(
+        last,
+        (pad + n - 1 + seg.points.len()).saturating_sub(contour.points.len()),
+    )
+    .max(i0 + 1);
     seg.points[i0] = first;
     seg.points[i1] = last;
     let corner = |index| Break {
