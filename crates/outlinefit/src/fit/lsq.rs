@@ -280,7 +280,8 @@ pub(super) fn fit_piece(
 
 /// [`fit_piece`] for a decision: whether the run fits within the tolerance, and if not,
 /// its best fit. A polynomial cubic stops at the first round of parameter correction
-/// that brings it within the tolerance, where [`fit_piece`] runs all its rounds: most
+/// that brings it within [`EARLY_STOP`] of the tolerance, where [`fit_piece`] runs all
+/// its rounds: most
 /// such pieces are split pieces and merge candidates that are merged into longer ones
 /// later, and [`finish_piece`] finishes those that become segments. On the corpus,
 /// three quarters of the merge candidates and most of the first pieces between breaks
