@@ -72,20 +72,12 @@ pub fn fit_segment_from(
     let warm = warm.filter(|w| w.len() == points.len());
     // A polynomial cubic from one start: the rounds that `fit_polynomial_until` and
     // `resume_polynomial` run too, so that a stopped and resumed fit is this one.
-    if settings.fixed_weights()
-        && settings.polish_iterations == 0
-        && (warm.is_some() || settings.initial.len() == 1)
-    {
+    if one_polynomial_run(settings, warm.is_some()) {
         let params = match warm {
             Some(w) => w.to_vec(),
-            None => {
-                let mut p = Vec::with_capacity(points.len());
-                parameters_into(points, settings.initial[0], &mut p);
-                p
-            }
+            None => first_rule_params(points, settings),
         };
-        let never = |_: &RationalCubic, _: &[f64], _: f64| false;
-        return polynomial_rounds(points, start, end, settings, params, 0, 0, never).0;
+        return polynomial_rounds(points, start, end, settings, params, 0, 0, never_stop).0;
     }
     let scale = run_scale(points);
     let mut evaluations = 0;
@@ -220,10 +212,10 @@ pub struct Stopped {
 /// parameter correction (before the last) `accept(curve, feet, farthest)` may stop it:
 /// the curve of that round is returned with its points' feet and the rounds done. A fit
 /// that is not stopped is exactly [`fit_segment`]'s; settings other than fixed weights,
-/// one initial rule and no polish are fitted whole, never stopped. Deciding whether a run fits needs
-/// only a curve within the tolerance; most such runs are merged into longer ones later,
-/// and the few that become segments are finished by [`resume_polynomial`], which gives
-/// the same curve as the uninterrupted fit.
+/// one initial rule and no polish are fitted whole, never stopped. Deciding whether a
+/// run fits needs only a curve within the tolerance; most such runs are merged into
+/// longer ones later, and the few that become segments are finished by
+/// [`resume_polynomial`], which gives the same curve as the uninterrupted fit.
 pub fn fit_polynomial_until(
     points: &[Point],
     start: EndCondition,
@@ -232,14 +224,31 @@ pub fn fit_polynomial_until(
     accept: impl FnMut(&RationalCubic, &[f64], f64) -> bool,
 ) -> (SegmentSolution, Option<Stopped>) {
     // Weights to search, several starts or a polish to run: fitted whole.
-    let one_run =
-        settings.fixed_weights() && settings.initial.len() == 1 && settings.polish_iterations == 0;
-    if points.len() <= 3 || !one_run {
+    if points.len() <= 3 || !one_polynomial_run(settings, false) {
         return (fit_segment(points, start, end, settings), None);
     }
+    let params = first_rule_params(points, settings);
+    polynomial_rounds(points, start, end, settings, params, 0, 0, accept)
+}
+
+/// True when `settings` fit one polynomial cubic from one start (fixed weights, no
+/// polish, and a `warm` start or a single initial rule): [`polynomial_rounds`] fits it.
+fn one_polynomial_run(settings: &FitSettings, warm: bool) -> bool {
+    settings.fixed_weights()
+        && settings.polish_iterations == 0
+        && (warm || settings.initial.len() == 1)
+}
+
+/// The parameters of `points` by the first initial rule of `settings`.
+fn first_rule_params(points: &[Point], settings: &FitSettings) -> Vec<f64> {
     let mut params = Vec::with_capacity(points.len());
     parameters_into(points, settings.initial[0], &mut params);
-    polynomial_rounds(points, start, end, settings, params, 0, 0, accept)
+    params
+}
+
+/// The `accept` of [`polynomial_rounds`] for a fit that runs all its rounds.
+fn never_stop(_: &RationalCubic, _: &[f64], _: f64) -> bool {
+    false
 }
 
 /// Finishes a polynomial fit that [`fit_polynomial_until`] stopped after
@@ -252,7 +261,6 @@ pub fn resume_polynomial(
     solution: SegmentSolution,
     stopped: Stopped,
 ) -> SegmentSolution {
-    let never = |_: &RationalCubic, _: &[f64], _: f64| false;
     let SegmentSolution {
         params,
         evaluations,
@@ -266,7 +274,7 @@ pub fn resume_polynomial(
         params,
         stopped.rounds,
         evaluations,
-        never,
+        never_stop,
     )
     .0
 }
