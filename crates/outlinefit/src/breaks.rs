@@ -125,19 +125,29 @@ fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f
     let n = points.len();
     // Targets lie within a window of a point: at most one lap away.
     let t = wrap_once(target, total);
-    // Walk from the hint in the needed direction.
-    let mut i = *at;
     let seg_end = |i: usize| if i + 1 < n { s[i + 1] } else { total };
-    let mut guard = 0;
-    // Walking towards t never passes it, so the shorter way round stays the same.
-    let forward = wrap_once(t - s[i], total) < total / 2.0;
-    while !(s[i] <= t && t < seg_end(i)) && guard < n {
-        i = if forward {
-            (i + 1) % n
+    let holds = |i: usize| s[i] <= t && t < seg_end(i);
+    // Most targets lie on the hint's edge or the next one (a scan's targets move forward
+    // about as fast as its points): those two are tried before any walk.
+    let mut i = *at;
+    if !holds(i) {
+        let next = if i + 1 < n { i + 1 } else { 0 };
+        if holds(next) {
+            i = next;
         } else {
-            (i + n - 1) % n
-        };
-        guard += 1;
+            // Walk from the hint in the needed direction. Walking towards t never passes
+            // it, so the shorter way round stays the same.
+            let forward = wrap_once(t - s[i], total) < total / 2.0;
+            let mut guard = 0;
+            while !holds(i) && guard < n {
+                i = if forward {
+                    (i + 1) % n
+                } else {
+                    (i + n - 1) % n
+                };
+                guard += 1;
+            }
+        }
     }
     *at = i;
     let len = seg_end(i) - s[i];

@@ -35,6 +35,7 @@ use super::solve::{
 use super::{DrawnCubics, FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::{arc_lengths, SegmentedContour};
 use crate::curve::approx::drawing_bound;
+use crate::curve::power::PowerCubic;
 use crate::curve::{approximate_with_cubics, CubicBez, RationalCubic};
 use crate::geom::{angle_between, cyclic_run, segment_distance, Point};
 use crate::linalg::det3;
@@ -338,7 +339,7 @@ fn fit_or_decide(
         if !decide || far > bound {
             return false;
         }
-        stopped_residual = residual_at(buf, curve, params);
+        stopped_residual = residual_given_inner(buf, curve, params, far);
         stopped_residual <= bound
     };
     let (poly, stopped) = fit_polynomial_until(buf, start, end, &polynomial, within);
@@ -432,18 +433,42 @@ pub(crate) fn drawn_residual(points: &[Point], sol: &SegmentSolution) -> f64 {
 
 /// [`drawn_residual`] of `curve` with the points at parameters `params`.
 fn residual_at(points: &[Point], curve: &RationalCubic, params: &[f64]) -> f64 {
-    let curve = curve.power_form();
+    let power = curve.power_form();
     let at_points = points
         .iter()
         .zip(params)
-        .map(|(q, &u)| curve.eval(u).distance(*q))
+        .map(|(q, &u)| power.eval(u).distance(*q))
         .fold(0.0, f64::max);
-    let between = points
+    at_points.max(between_points(points, &power, params))
+}
+
+/// [`residual_at`] when the largest distance of the inner points (all but the first and
+/// the last) from the curve at their parameters is already known: `inner`, as a round of
+/// parameter correction measures it at the feet it finds (`reproject`, with the same
+/// power form and so the same bits). Only the two ends and the chords are measured.
+fn residual_given_inner(
+    points: &[Point],
+    curve: &RationalCubic,
+    params: &[f64],
+    inner: f64,
+) -> f64 {
+    let power = curve.power_form();
+    let last = points.len() - 1;
+    let ends = [0, last]
+        .map(|i| power.eval(params[i]).distance(points[i]))
+        .into_iter()
+        .fold(inner, f64::max);
+    ends.max(between_points(points, &power, params))
+}
+
+/// The largest distance from the curve halfway between two consecutive parameters to
+/// the chord of those points (see [`drawn_residual`]).
+fn between_points(points: &[Point], power: &PowerCubic, params: &[f64]) -> f64 {
+    points
         .windows(2)
         .zip(params.windows(2))
-        .map(|(q, u)| segment_distance(curve.eval(0.5 * (u[0] + u[1])), q[0], q[1]))
-        .fold(0.0, f64::max);
-    at_points.max(between)
+        .map(|(q, u)| segment_distance(power.eval(0.5 * (u[0] + u[1])), q[0], q[1]))
+        .fold(0.0, f64::max)
 }
 
 /// The joints of `seg`'s breaks, each smooth one with its tangent estimated from the
@@ -1127,6 +1152,45 @@ mod tests {
         }
         // The test is not vacuous: some of the final segments had been decided early.
         assert!(decided_early > 0);
+    }
+
+    /// The decision's residual, from the farthest inner foot that the round measured, is
+    /// the whole drawn residual to the bit after every round of several runs (noisy arcs,
+    /// free and tangent ends), the first and last points and the chords included.
+    #[test]
+    fn the_residual_from_a_rounds_farthest_foot_is_the_whole_residual() {
+        let mut compared = 0;
+        for (k, n) in [5usize, 6, 9, 23, 60].into_iter().enumerate() {
+            let points: Vec<Point> = (0..n)
+                .map(|i| {
+                    let a = i as f64 / n as f64 * 2.5;
+                    let wobble = 0.2 * ((i * 7 + k) as f64).sin();
+                    Point::new(30.0 * a.cos() + wobble, 20.0 * a.sin() - wobble)
+                })
+                .collect();
+            let tangent = |i: usize| EndCondition::Tangent(estimate_tangent(&points, i, 3.0));
+            for (start, end) in [
+                (EndCondition::Free, EndCondition::Free),
+                (tangent(0), tangent(n - 1)),
+            ] {
+                let settings = FitSettings {
+                    reparam_rounds: POLYNOMIAL_ROUNDS,
+                    ..FitSettings::polynomial()
+                };
+                let settings = FitSettings {
+                    polish_iterations: 0,
+                    ..settings
+                };
+                fit_polynomial_until(&points, start, end, &settings, |curve, params, far| {
+                    let whole = residual_at(&points, curve, params);
+                    let given = residual_given_inner(&points, curve, params, far);
+                    assert_eq!(whole.to_bits(), given.to_bits(), "{n} points");
+                    compared += 1;
+                    false
+                });
+            }
+        }
+        assert!(compared >= 20, "{compared} rounds compared");
     }
 
     /// `n` points at even parameters on the rational cubic (0, 0), (0, 20), (20, 20),
