@@ -121,6 +121,7 @@ fn point_at(points: &[Point], s: &[f64], total: f64, hint: usize, target: f64) -
 /// [`point_at`] that leaves in `at` the index of the polygon edge it found: a scan whose
 /// targets move forward with the points passes that index back as the next hint, and
 /// then finds each edge in a step or two instead of walking the whole window.
+#[inline(always)]
 fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f64) -> Point {
     let n = points.len();
     // Targets lie within a window of a point: at most one lap away.
@@ -152,7 +153,10 @@ fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f
     *at = i;
     let len = seg_end(i) - s[i];
     let f = if len > 0.0 { (t - s[i]) / len } else { 0.0 };
-    points[i].lerp(points[(i + 1) % n], f)
+    // The next point without an integer division (`% n`): a scan calls this six times
+    // per point.
+    let next = if i + 1 < n { i + 1 } else { 0 };
+    points[i].lerp(points[next], f)
 }
 
 /// Signed turning angle at every point over half-window `h` (positive turning clockwise on
