@@ -21,16 +21,17 @@
 //!    its worst point when both sides then fit, and the merge runs again around the new
 //!    corners.
 //! 6. While splitting and merging, a polynomial cubic only decides whether its run fits:
-//!    it stops at the first round of parameter correction within [`EARLY_STOP`] of the
-//!    tolerance, and only the pieces that end as segments run their remaining rounds
-//!    ([`finish_piece`]), which gives them the curve of the uninterrupted fit.
+//!    on a run of [`DECISION_SUBSAMPLE_POINTS`] or more it is fitted on every other
+//!    point (and measured on all), it stops at the first round of parameter correction
+//!    within [`EARLY_STOP`] of the tolerance, and only the pieces that end as segments
+//!    run their remaining rounds on all their points ([`finish_piece`]).
 //!
 //! No split or merge crosses a corner, so a contour with two or more corners is fitted run
 //! by run (corner to corner), in parallel on a large contour.
 
 use super::solve::{
-    fit_polynomial_until, fit_segment_from, resume_polynomial, segment_error, EndCondition,
-    FitSettings, SegmentSolution, Stopped,
+    every, fit_polynomial_until, fit_segment_from, resume_polynomial, segment_error, spread_params,
+    EndCondition, FitSettings, SegmentSolution, Stopped,
 };
 use super::{DrawnCubics, FittedContour, FittedSegment, Joint, JointKind};
 use crate::breaks::{arc_lengths, SegmentedContour};
@@ -267,7 +268,8 @@ pub(crate) fn estimate_tangent(points: &[Point], i: usize, window: f64) -> Point
 /// fitted: a polynomial cubic when it is within tolerance, otherwise (with `weights`)
 /// the weight search when that is better. `buf` receives the run's points. (The chain
 /// itself decides with [`decide_piece`] and finishes its segments with
-/// [`finish_piece`], to the same curves.)
+/// [`finish_piece`]: the same curves on a run shorter than
+/// [`DECISION_SUBSAMPLE_POINTS`].)
 pub(super) fn fit_piece(
     points: &[Point],
     a: &JointSpec,
@@ -282,7 +284,8 @@ pub(super) fn fit_piece(
 /// [`fit_piece`] for a decision: whether the run fits within the tolerance, and if not,
 /// its best fit. A polynomial cubic stops at the first round of parameter correction
 /// that brings it within [`EARLY_STOP`] of the tolerance, where [`fit_piece`] runs all
-/// its rounds: most
+/// its rounds, and on a long run it is fitted on every other point
+/// ([`decide_on_subsample`]): most
 /// such pieces are split pieces and merge candidates that are merged into longer ones
 /// later, and [`finish_piece`] finishes those that become segments. On the corpus,
 /// three quarters of the merge candidates and most of the first pieces between breaks
@@ -329,6 +332,9 @@ fn fit_or_decide(
     let polynomial = polynomial_settings(opts);
     cyclic_run(points, a.index, b.index, buf);
     let (start, end) = end_conditions(a, b);
+    if decide && buf.len() >= DECISION_SUBSAMPLE_POINTS {
+        return decide_on_subsample(buf, start, end, opts, weights);
+    }
     // A polynomial cubic is what SVG draws exactly: prefer it whenever it is within
     // tolerance; otherwise search the weights. For a decision, the first round within
     // [`EARLY_STOP`] of the tolerance ends it (the farthest foot, which the round finds
@@ -351,6 +357,86 @@ fn fit_or_decide(
     }
     let poly_residual = drawn_residual(buf, &poly);
     if !weights || poly_residual <= opts.tolerance {
+        return Piece::polynomial(poly, poly_residual);
+    }
+    with_weights(buf, start, end, opts, poly, poly_residual)
+}
+
+/// Data points from which a run's decision ([`decide_piece`]) fits its polynomial cubic
+/// on every [`DECISION_STRIDE`]-th point only. The points lie about 0.8 px apart along
+/// a smooth edge, so half of them place the cubic almost where all of them do; what the
+/// decision concludes is measured on all of them (the curve's distance to every point,
+/// at its foot, and to every chord), and the segments it keeps run their last rounds on
+/// all of them ([`finish_piece`]). On the scan of `make_scan.py` 0.960x the
+/// instructions (`valgrind --tool=callgrind`), 34 310 SVG cubics instead of 34 607; on
+/// `batch` over the corpus 0.958x, the area error lower on seven of the eight subsets
+/// (2-6 %) and 1.3 % higher on dev-icon (its large circles take one or two segments
+/// fewer), segments per subset within 0.3 %. From 16 points: 0.95x the scan's processor
+/// time instead of 0.92x; every k-th point with k chosen so that about 12 (8) remain:
+/// 2.5 % (3.4 %) more SVG cubics on the scan, since a sparser fit misses more often.
+const DECISION_SUBSAMPLE_POINTS: usize = 12;
+
+/// A long run's decision fits every this many points (and the last).
+const DECISION_STRIDE: usize = 2;
+
+/// [`decide_piece`] of a long run (`buf`, [`DECISION_SUBSAMPLE_POINTS`] or more): its
+/// polynomial cubic is fitted on every [`DECISION_STRIDE`]-th point, and whatever it
+/// decides is measured on all of them. A cubic that stops early, or that ends within the
+/// tolerance after all its rounds, is left for [`finish_piece`] to run at least its last
+/// round on all the points.
+fn decide_on_subsample(
+    buf: &[Point],
+    start: EndCondition,
+    end: EndCondition,
+    opts: &LsqOptions,
+    weights: bool,
+) -> Piece {
+    let polynomial = polynomial_settings(opts);
+    let sub: Vec<Point> = every(buf, DECISION_STRIDE).collect();
+    let bound = EARLY_STOP * opts.tolerance;
+    let mut accepted: Option<(Vec<f64>, f64)> = None;
+    let within = |curve: &RationalCubic, params: &[f64], far: f64| {
+        if far > bound {
+            return false;
+        }
+        let (all, inner) = spread_params(curve, buf, params, DECISION_STRIDE);
+        if inner > bound {
+            return false;
+        }
+        let residual = residual_given_inner(buf, curve, &all, inner);
+        let fits = residual <= bound;
+        if fits {
+            accepted = Some((all, residual));
+        }
+        fits
+    };
+    let (poly, stopped) = fit_polynomial_until(&sub, start, end, &polynomial, within);
+    // The last round of every segment runs on all its points. If that cubic misses the
+    // tolerance after all, this one, within it on all the points, stays: no weights are
+    // searched for it.
+    let last = POLYNOMIAL_ROUNDS - 1;
+    if let (Some(stopped), Some((params, residual))) = (stopped, accepted) {
+        let solution = SegmentSolution { params, ..poly };
+        return Piece {
+            stopped: Some((
+                Stopped {
+                    rounds: stopped.rounds.min(last),
+                },
+                false,
+            )),
+            ..Piece::polynomial(solution, residual)
+        };
+    }
+    let (params, _) = spread_params(&poly.curve, buf, &poly.params, DECISION_STRIDE);
+    let poly = SegmentSolution { params, ..poly };
+    let poly_residual = drawn_residual(buf, &poly);
+    if poly_residual <= opts.tolerance {
+        return Piece {
+            stopped: Some((Stopped { rounds: last }, false)),
+            ..Piece::polynomial(poly, poly_residual)
+        };
+    }
+    if !weights {
         return Piece::polynomial(poly, poly_residual);
     }
     with_weights(buf, start, end, opts, poly, poly_residual)
@@ -392,10 +478,11 @@ fn with_weights(
     }
 }
 
-/// Runs the remaining rounds of a piece that [`decide_piece`] stopped early: the same
-/// curve as [`fit_piece`]'s, and where that misses the tolerance after all (more rounds
-/// lower the sum of squared distances, not always the farthest), the same weight search.
-/// Only when both miss is the stopped cubic, within the tolerance, kept.
+/// Runs the remaining rounds of a piece that [`decide_piece`] stopped early, on all its
+/// points (on a run shorter than [`DECISION_SUBSAMPLE_POINTS`] the same curve as
+/// [`fit_piece`]'s), and where that misses the tolerance after all (more rounds lower
+/// the sum of squared distances, not always the farthest), the same weight search. Only
+/// when both miss is the stopped cubic, within the tolerance on all its points, kept.
 fn finish_piece(
     points: &[Point],
     a: &JointSpec,
@@ -1112,11 +1199,13 @@ mod tests {
         }
     }
 
-    /// Every segment of a fitted chain is the uninterrupted fit of its run, to the bit,
-    /// although the chain stops each polynomial cubic at the first round that is close
-    /// enough to decide a split or a merge.
+    /// Every segment of a fitted chain is measured and finished on all its points, though
+    /// the chain decides long runs on every other point and stops each polynomial cubic
+    /// at the first round close enough to decide: its parameters are one per point, its
+    /// residual is the drawn residual over all of them and within the tolerance, and a
+    /// short run's segment is the uninterrupted fit of its run, to the bit.
     #[test]
-    fn every_segment_of_a_chain_is_the_full_fit_of_its_run() {
+    fn every_segment_of_a_chain_is_measured_and_finished_on_all_its_points() {
         // A wavy closed curve: many curvature extrema, most merged away.
         let points: Vec<Point> = (0..400)
             .map(|i| {
@@ -1137,21 +1226,70 @@ mod tests {
         let (joints, pieces) = fit_chain(&seg.points, joints, true, &opts);
         assert!(pieces.len() >= 4, "{} pieces", pieces.len());
         let mut buf = Vec::new();
-        let mut decided_early = 0;
+        let (mut decided_early, mut long, mut short) = (0, 0, 0);
         let m = joints.len();
         for (k, piece) in pieces.iter().enumerate() {
             assert!(piece.stopped.is_none());
             let (a, b) = (&joints[k], &joints[(k + 1) % m]);
-            let full = fit_piece(&seg.points, a, b, &opts, true, &mut buf);
-            assert_eq!(piece.solution.curve, full.solution.curve, "segment {k}");
-            assert_eq!(piece.solution.params, full.solution.params);
-            assert_eq!(piece.solution.evaluations, full.solution.evaluations);
-            assert_eq!(piece.max_residual, full.max_residual);
+            cyclic_run(&seg.points, a.index, b.index, &mut buf);
+            let run = buf.clone();
+            assert_eq!(piece.solution.params.len(), run.len(), "segment {k}");
+            let drawn = drawn_residual(&run, &piece.solution);
+            assert_eq!(piece.max_residual.to_bits(), drawn.to_bits(), "segment {k}");
+            assert!(piece.max_residual <= opts.tolerance, "segment {k}");
+            if run.len() < DECISION_SUBSAMPLE_POINTS {
+                short += 1;
+                let full = fit_piece(&seg.points, a, b, &opts, true, &mut buf);
+                assert_eq!(piece.solution.curve, full.solution.curve, "segment {k}");
+                assert_eq!(piece.solution.params, full.solution.params);
+                assert_eq!(piece.solution.evaluations, full.solution.evaluations);
+                assert_eq!(piece.max_residual, full.max_residual);
+            } else {
+                long += 1;
+            }
             let decided = decide_piece(&seg.points, a, b, &opts, true, &mut buf);
             decided_early += usize::from(decided.stopped.is_some());
         }
-        // The test is not vacuous: some of the final segments had been decided early.
-        assert!(decided_early > 0);
+        // Not vacuous: long runs were decided on half their points, and some of the final
+        // segments had been decided early.
+        assert!(long > 0 && decided_early > 0, "{long} long, {short} short");
+    }
+
+    /// A long run's decision, fitted on every other point, is measured on all of them:
+    /// one parameter per point, and its residual the drawn residual over all of them,
+    /// both when it fits (and stops early, to be finished) and when it misses.
+    #[test]
+    fn a_long_runs_decision_on_half_its_points_is_measured_on_all() {
+        let n = 41;
+        assert!(n >= DECISION_SUBSAMPLE_POINTS);
+        let points: Vec<Point> = (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * 1.5;
+                let wobble = 0.03 * ((i * 5) as f64).sin();
+                Point::new(40.0 * a.cos() + wobble, 40.0 * a.sin())
+            })
+            .collect();
+        let a = JointSpec {
+            index: 0,
+            kind: JointKind::Corner,
+            tangent: None,
+        };
+        let b = JointSpec { index: n - 1, ..a };
+        let mut buf = Vec::new();
+        for (tolerance, fits) in [(0.3, true), (0.005, false)] {
+            let opts = LsqOptions::for_tolerance(tolerance, false);
+            let piece = decide_piece(&points, &a, &b, &opts, false, &mut buf);
+            assert_eq!(piece.solution.params.len(), n);
+            let drawn = drawn_residual(&points, &piece.solution);
+            assert_eq!(piece.max_residual.to_bits(), drawn.to_bits());
+            assert_eq!(
+                piece.max_residual <= tolerance,
+                fits,
+                "{}",
+                piece.max_residual
+            );
+            assert_eq!(piece.stopped.is_some(), fits);
+        }
     }
 
     /// The decision's residual, from the farthest inner foot that the round measured, is
@@ -1208,10 +1346,11 @@ mod tests {
     }
 
     /// While splitting, a run of `SPLIT_WEIGHTS_POINTS` or more points that its polynomial
-    /// cubic misses is split at once into polynomial pieces within the tolerance, and the
-    /// merge does not join them into a rational segment across the split run.
+    /// cubic misses is split at once, though it lies exactly on a rational cubic that the
+    /// weight search would find: it ends as two or more pieces within the tolerance, and
+    /// the merge does not join them into one segment across the split run.
     #[test]
-    fn a_long_run_is_split_into_polynomial_pieces_within_tolerance() {
+    fn a_long_run_is_split_into_pieces_within_tolerance() {
         let n = 40;
         assert!(n >= SPLIT_WEIGHTS_POINTS);
         let points = arch(n);
@@ -1230,7 +1369,6 @@ mod tests {
         assert_eq!(joints.len(), pieces.len() + 1);
         assert!(pieces.len() >= 2);
         for p in &pieces {
-            assert!(p.solution.curve.is_polynomial(), "{:?}", p.solution.curve);
             assert!(p.max_residual <= 0.08, "{}", p.max_residual);
         }
     }

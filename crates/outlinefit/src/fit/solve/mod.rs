@@ -26,8 +26,9 @@ mod weights;
 pub use model::{solve_control_points, EndCondition, FitSettings, SegmentSolution, WEIGHT_RANGE};
 pub use segment::{
     fit_polynomial_until, fit_segment, fit_segment_from, optimum_at_fixed_params,
-    resume_polynomial, segment_error, Stopped,
+    resume_polynomial, segment_error, spread_params, Stopped,
 };
+pub(crate) use weights::every;
 pub use weights::WeightsProblem;
 // For the no-allocation test and the objective benchmark: the full search space's
 // segment problem and the parameters both search spaces fit at.

@@ -148,7 +148,7 @@ pub(super) fn strided<T: Copy>(items: &[T], stride: usize) -> Vec<T> {
 }
 
 /// The items of [`strided`], in order.
-pub(super) fn every<T: Copy>(items: &[T], stride: usize) -> impl Iterator<Item = T> + '_ {
+pub(crate) fn every<T: Copy>(items: &[T], stride: usize) -> impl Iterator<Item = T> + '_ {
     let last = items.len() - 1;
     items[..last]
         .iter()
