@@ -368,9 +368,9 @@ fn fit_or_decide(
 /// decision concludes is measured on all of them (the curve's distance to every point,
 /// at its foot, and to every chord), and the segments it keeps run their last rounds on
 /// all of them ([`finish_piece`]). On the scan of `make_scan.py` 0.960x the
-/// instructions (`valgrind --tool=callgrind`), 34 310 SVG cubics instead of 34 607; on
-/// `batch` over the corpus 0.958x, the area error lower on seven of the eight subsets
-/// (2-6 %) and 1.3 % higher on dev-icon (its large circles take one or two segments
+/// instructions (`valgrind --tool=callgrind`), 34 306 SVG cubics instead of 34 607; on
+/// `batch` over the corpus 0.957x, the area error lower on seven of the eight subsets
+/// (2-6 %) and 1.3 % higher on dev-icon (five round icons take one or two segments
 /// fewer), segments per subset within 0.3 %. From 16 points: 0.95x the scan's processor
 /// time instead of 0.92x; every k-th point with k chosen so that about 12 (8) remain:
 /// 2.5 % (3.4 %) more SVG cubics on the scan, since a sparser fit misses more often.
@@ -481,8 +481,9 @@ fn with_weights(
 /// Runs the remaining rounds of a piece that [`decide_piece`] stopped early, on all its
 /// points (on a run shorter than [`DECISION_SUBSAMPLE_POINTS`] the same curve as
 /// [`fit_piece`]'s), and where that misses the tolerance after all (more rounds lower
-/// the sum of squared distances, not always the farthest), the same weight search. Only
-/// when both miss is the stopped cubic, within the tolerance on all its points, kept.
+/// the sum of squared distances, not always the farthest), the same weight search (none
+/// for a piece decided on every other point). Only when both miss is the stopped cubic,
+/// within the tolerance on all its points, kept.
 fn finish_piece(
     points: &[Point],
     a: &JointSpec,

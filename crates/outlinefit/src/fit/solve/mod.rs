@@ -24,9 +24,10 @@ mod segment;
 mod weights;
 
 pub use model::{solve_control_points, EndCondition, FitSettings, SegmentSolution, WEIGHT_RANGE};
+pub(crate) use segment::spread_params;
 pub use segment::{
     fit_polynomial_until, fit_segment, fit_segment_from, optimum_at_fixed_params,
-    resume_polynomial, segment_error, spread_params, Stopped,
+    resume_polynomial, segment_error, Stopped,
 };
 pub(crate) use weights::every;
 pub use weights::WeightsProblem;

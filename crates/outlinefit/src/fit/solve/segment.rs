@@ -446,12 +446,12 @@ fn bent_straight_segment(
 }
 
 /// The parameters of every one of `points` on `curve`, from `sub`, those of every
-/// `stride`-th point and the last (as [`every`] takes them) at their feet on `curve`: a
-/// point between two of them starts where its place between them puts it, linearly, and
-/// every inner point then takes one round of parameter correction on `curve`. Returns
-/// them with the largest distance of an inner point from the curve at its parameter (as
-/// a round of a fit measures it).
-pub fn spread_params(
+/// `stride`-th point and the last at their feet on `curve`: a point between two of them
+/// starts where its place between them puts it, linearly, and every inner point then
+/// takes one round of parameter correction on `curve`. Returns them with the largest
+/// distance of an inner point from the curve at its parameter (as a round of a fit
+/// measures it).
+pub(crate) fn spread_params(
     curve: &RationalCubic,
     points: &[Point],
     sub: &[f64],
