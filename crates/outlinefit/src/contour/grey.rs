@@ -247,10 +247,8 @@ fn gradient_normal(bitmap: &Bitmap, crack: &Crack) -> Option<Point> {
 /// edge it finds may lie.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Window {
-    /// Integration steps of `step` px each way, at most.
+    /// Integration steps of `HALF_WINDOW / WINDOW_STEPS` px each way, at most.
     steps: usize,
-    /// Length (px) of an integration step.
-    step: f64,
     /// Largest distance (px) across the crack from its midpoint.
     crack_shift: f64,
 }
@@ -259,23 +257,15 @@ impl Window {
     /// Anti-aliased edges, a pixel or two wide: ±2 px, within [`MAX_CRACK_SHIFT`].
     pub(super) const SHARP: Window = Window {
         steps: WINDOW_STEPS,
-        step: HALF_WINDOW / WINDOW_STEPS as f64,
         crack_shift: MAX_CRACK_SHIFT,
     };
     /// Soft edges (a blurred scan or photo, an upscaled image): the window widens to ±8 px
     /// until the coverage reaches paper and ink, and the edge may lie up to
     /// [`SOFT_CRACK_SHIFT`] across the crack. The narrow window cuts a wide edge off, which
     /// pulls each point towards its crack: the outline follows the pixel staircase, and the
-    /// fit follows it in many short pieces. Its steps are half a pixel, twice the sharp
-    /// window's: a blurred profile is smooth, and on blurred steps of σ = 1.2-4 px and
-    /// 20 sub-pixel positions the edge found is the same to 1e-5 px as with quarter-pixel
-    /// steps (the trapezoid rule on the bilinear coverage still samples every pixel
-    /// centre along an axis). On the upscaled page of `make_scan.py` 0.892x the
-    /// instructions (`valgrind --tool=callgrind`) and 0.893x the wall time (21 paired
-    /// runs), 3 783 SVG cubics instead of 3 805; the 4096 px horse 0.914x and 0.947x.
+    /// fit follows it in many short pieces.
     pub(super) const SOFT: Window = Window {
-        steps: 2 * WINDOW_STEPS,
-        step: 2.0 * HALF_WINDOW / WINDOW_STEPS as f64,
+        steps: 4 * WINDOW_STEPS,
         crack_shift: SOFT_CRACK_SHIFT,
     };
 }
@@ -316,7 +306,7 @@ fn refine_crack(
     let n = edge_normal(bitmap, crack);
     let (s, open) = match estimator {
         EdgeEstimator::CoverageIntegral => {
-            let (s, open) = integrate_edge(bitmap, crack.mid(), n, window.steps, window.step);
+            let (s, open) = integrate_edge(bitmap, crack.mid(), n, window.steps);
             (Some(s), open)
         }
         EdgeEstimator::LevelCrossing => (level_crossing(bitmap, crack.mid(), n), false),
@@ -357,7 +347,8 @@ fn refine_crack(
 /// (coverage taken as 1 past where the inward walk stopped).
 /// Also returns whether the window ended before the coverage came within
 /// [`OPEN_LEVEL`] of paper outwards or of ink inwards (the edge is wider than the window).
-fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point, steps: usize, ds: f64) -> (f64, bool) {
+fn integrate_edge(bitmap: &Bitmap, m: Point, n: Point, steps: usize) -> (f64, bool) {
+    let ds = HALF_WINDOW / WINDOW_STEPS as f64;
     // Each walk reads a cell's pixels once for its samples in it.
     let mut cell = Cell::NONE;
     let f0 = bitmap.sample_in(m, &mut cell);
@@ -894,7 +885,7 @@ mod tests {
         let truth = edge - m.x;
         for sigma in [0.3, 0.5, 0.8] {
             let b = blurred_step(edge, sigma);
-            let (s, open) = integrate_edge(&b, m, n, Window::SHARP.steps, Window::SHARP.step);
+            let (s, open) = integrate_edge(&b, m, n, Window::SHARP.steps);
             assert!(!open, "σ = {sigma}: the sharp window is open");
             assert!(
                 (s - truth).abs() < 0.02,
@@ -903,9 +894,9 @@ mod tests {
         }
         for sigma in [2.0, 3.0] {
             let b = blurred_step(edge, sigma);
-            let (sharp, open) = integrate_edge(&b, m, n, Window::SHARP.steps, Window::SHARP.step);
+            let (sharp, open) = integrate_edge(&b, m, n, Window::SHARP.steps);
             assert!(open, "σ = {sigma}: the sharp window is closed");
-            let (soft, open) = integrate_edge(&b, m, n, Window::SOFT.steps, Window::SOFT.step);
+            let (soft, open) = integrate_edge(&b, m, n, Window::SOFT.steps);
             assert!(!open, "σ = {sigma}: the soft window is open");
             assert!(
                 (soft - truth).abs() < 0.02,
