@@ -128,11 +128,14 @@ fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f
     let t = wrap_once(target, total);
     let seg_end = |i: usize| if i + 1 < n { s[i + 1] } else { total };
     let holds = |i: usize| s[i] <= t && t < seg_end(i);
+    // The next point without an integer division (`% n`): a scan calls this six times
+    // per point.
+    let next_of = |i: usize| if i + 1 < n { i + 1 } else { 0 };
     // Most targets lie on the hint's edge or the next one (a scan's targets move forward
     // about as fast as its points): those two are tried before any walk.
     let mut i = *at;
     if !holds(i) {
-        let next = if i + 1 < n { i + 1 } else { 0 };
+        let next = next_of(i);
         if holds(next) {
             i = next;
         } else {
@@ -153,10 +156,7 @@ fn point_from(points: &[Point], s: &[f64], total: f64, at: &mut usize, target: f
     *at = i;
     let len = seg_end(i) - s[i];
     let f = if len > 0.0 { (t - s[i]) / len } else { 0.0 };
-    // The next point without an integer division (`% n`): a scan calls this six times
-    // per point.
-    let next = if i + 1 < n { i + 1 } else { 0 };
-    points[i].lerp(points[next], f)
+    points[i].lerp(points[next_of(i)], f)
 }
 
 /// Signed turning angle at every point over half-window `h` (positive turning clockwise on

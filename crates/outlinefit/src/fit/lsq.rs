@@ -1314,11 +1314,8 @@ mod tests {
             ] {
                 let settings = FitSettings {
                     reparam_rounds: POLYNOMIAL_ROUNDS,
-                    ..FitSettings::polynomial()
-                };
-                let settings = FitSettings {
                     polish_iterations: 0,
-                    ..settings
+                    ..FitSettings::polynomial()
                 };
                 fit_polynomial_until(&points, start, end, &settings, |curve, params, far| {
                     let whole = residual_at(&points, curve, params);
