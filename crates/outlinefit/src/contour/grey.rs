@@ -131,10 +131,12 @@ fn rise_walk(
 ) -> Option<()> {
     let ds = HALF_WINDOW / WINDOW_STEPS as f64;
     let steps = (SPREAD_REACH / ds) as usize;
-    let mut best = bitmap.sample(m);
+    // Quarter-pixel steps read each cell's pixels once.
+    let mut cell = Cell::NONE;
+    let mut best = bitmap.sample_in(m, &mut cell);
     let mut idle = 0;
     for j in 1..=steps {
-        let f = bitmap.sample(m + dir * (j as f64 * ds));
+        let f = bitmap.sample_in(m + dir * (j as f64 * ds), &mut cell);
         out.push(f);
         let progress = if falling { best - f } else { f - best };
         if progress > SPREAD_PROGRESS {
@@ -426,10 +428,11 @@ fn thin_stroke_edge(bitmap: &Bitmap, m: Point, n: Point, highest: f64) -> Option
     let (mut mass, mut moment) = (0.0, 0.0);
     // Outwards to paper.
     let mut s = 0.0;
-    let mut f = bitmap.sample(m);
+    let mut cell = Cell::NONE;
+    let mut f = bitmap.sample_in(m, &mut cell);
     let mut closed_out = false;
     while s < HALF_WINDOW {
-        let g = bitmap.sample(m + n * (s + ds));
+        let g = bitmap.sample_in(m + n * (s + ds), &mut cell);
         mass += 0.5 * (f + g) * ds;
         moment += 0.5 * (f * s + g * (s + ds)) * ds;
         s += ds;
@@ -441,10 +444,11 @@ fn thin_stroke_edge(bitmap: &Bitmap, m: Point, n: Point, highest: f64) -> Option
     }
     // Inwards across the ridge to paper on the far side.
     let mut s = 0.0;
-    let mut f = bitmap.sample(m);
+    let mut cell = Cell::NONE;
+    let mut f = bitmap.sample_in(m, &mut cell);
     let mut closed_in = false;
     while s < THIN_STROKE_REACH {
-        let g = bitmap.sample(m - n * (s + ds));
+        let g = bitmap.sample_in(m - n * (s + ds), &mut cell);
         mass += 0.5 * (f + g) * ds;
         moment -= 0.5 * (f * s + g * (s + ds)) * ds;
         s += ds;
@@ -466,13 +470,14 @@ fn thin_stroke_edge(bitmap: &Bitmap, m: Point, n: Point, highest: f64) -> Option
 fn level_crossing(bitmap: &Bitmap, m: Point, n: Point) -> Option<f64> {
     let ds = HALF_WINDOW / WINDOW_STEPS as f64;
     let t = bitmap.threshold();
-    let f0 = bitmap.sample(m);
+    let mut cell = Cell::NONE;
+    let f0 = bitmap.sample_in(m, &mut cell);
     // Walk outward while inside, inward while outside.
     let dir = if f0 >= t { 1.0 } else { -1.0 };
     let mut prev = f0;
     for j in 1..=WINDOW_STEPS {
         let s = dir * j as f64 * ds;
-        let f = bitmap.sample(m + n * s);
+        let f = bitmap.sample_in(m + n * s, &mut cell);
         if (f >= t) != (f0 >= t) {
             let frac = (prev - t) / (prev - f);
             return Some(dir * ((j - 1) as f64 + frac) * ds);
