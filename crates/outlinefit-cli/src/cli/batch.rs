@@ -204,7 +204,11 @@ pub(crate) fn run(args: &BatchArgs) -> anyhow::Result<i32> {
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let rows: Vec<Row> = pool.install(|| {
+        // One task per file: a run of files handed to a thread as one task cannot be
+        // shared once it starts, and files that take long sort together (the stress
+        // shapes, whose checks repair), so the last such run kept one core busy alone.
         jobs.par_iter()
+            .with_max_len(1)
             .map(|job| {
                 let row = process(job, args, &config, &writing);
                 bar.inc(1);
