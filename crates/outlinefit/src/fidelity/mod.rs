@@ -416,6 +416,12 @@ fn band_crossings(
                 continue;
             }
             let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+            // An edge wholly above or below the band crosses none of its rows (the same
+            // test as the range below, without its two calls to `ceil`): a band visits
+            // every edge of a path that reaches it, most of them elsewhere.
+            if hi.y - 0.5 <= top || lo.y - 0.5 > bottom - 1.0 {
+                continue;
+            }
             // Rows whose centre y = r + 0.5 lies in [lo.y, hi.y), within the band.
             let r0 = (lo.y - 0.5).ceil().max(top);
             let r1 = (hi.y - 0.5).ceil().min(bottom);
