@@ -494,16 +494,36 @@ impl PaperMap {
     }
 
     /// The paper level of every pixel of row `y`: bilinear between block centres, capped.
-    /// `columns` is [`PaperMap::column_weights`] of the row's width.
-    fn level_row(&self, y: usize, columns: &[(usize, usize, f32)], out: &mut [f32]) {
+    /// `columns` is [`PaperMap::column_weights`] of the row's width. `along` holds the
+    /// two block rows that `y` lies between, interpolated along the row (the same for
+    /// every image row between their centres, so made again only when they change):
+    /// each pixel then takes one blend of the two, with no look-up.
+    fn level_row(
+        &self,
+        y: usize,
+        columns: &[(usize, usize, f32)],
+        along: &mut BlockRows,
+        out: &mut [f32],
+    ) {
         let (r0, r1, ty) = self.between_centres(y, self.rows);
-        let (top_row, bottom_row) = (
-            &self.paper[r0 * self.cols..(r0 + 1) * self.cols],
-            &self.paper[r1 * self.cols..(r1 + 1) * self.cols],
-        );
-        for (o, &(c0, c1, tx)) in out.iter_mut().zip(columns) {
-            let top = top_row[c0] + (top_row[c1] - top_row[c0]) * tx;
-            let bottom = bottom_row[c0] + (bottom_row[c1] - bottom_row[c0]) * tx;
+        if along.rows != Some((r0, r1)) {
+            let (top_row, bottom_row) = (
+                &self.paper[r0 * self.cols..(r0 + 1) * self.cols],
+                &self.paper[r1 * self.cols..(r1 + 1) * self.cols],
+            );
+            along.top.clear();
+            along.bottom.clear();
+            for &(c0, c1, tx) in columns {
+                along
+                    .top
+                    .push(top_row[c0] + (top_row[c1] - top_row[c0]) * tx);
+                along
+                    .bottom
+                    .push(bottom_row[c0] + (bottom_row[c1] - bottom_row[c0]) * tx);
+            }
+            along.rows = Some((r0, r1));
+        }
+        for ((o, &top), &bottom) in out.iter_mut().zip(&along.top).zip(&along.bottom) {
             *o = (top + (bottom - top) * ty).min(PAPER_CAP);
         }
     }
@@ -517,10 +537,18 @@ impl PaperMap {
             return Levels::quantised(out);
         }
         let columns = self.column_weights(width);
-        let buffers = || (vec![0.0f32; width], vec![0.0f32; width]);
-        let flatten_row = |(row, paper): &mut (Vec<f32>, Vec<f32>), y: usize, out: &mut [u16]| {
+        let buffers = || {
+            (
+                vec![0.0f32; width],
+                vec![0.0f32; width],
+                BlockRows::default(),
+            )
+        };
+        let flatten_row = |(row, paper, along): &mut (Vec<f32>, Vec<f32>, BlockRows),
+                           y: usize,
+                           out: &mut [u16]| {
             coverage.read(y * width, row);
-            self.level_row(y, &columns, paper);
+            self.level_row(y, &columns, along, paper);
             for ((o, &c), &p) in out.iter_mut().zip(row.iter()).zip(paper.iter()) {
                 *o = levels::quantise((c - p) / (1.0 - p));
             }
@@ -538,6 +566,18 @@ impl PaperMap {
         }
         Levels::quantised(out)
     }
+}
+
+/// Two rows of block centres interpolated along an image row ([`PaperMap::level_row`]),
+/// kept while the image rows lie between the same two.
+#[derive(Default)]
+struct BlockRows {
+    /// The block rows interpolated, if any yet.
+    rows: Option<(usize, usize)>,
+    /// The upper block row's paper level at each pixel column.
+    top: Vec<f32>,
+    /// The lower block row's.
+    bottom: Vec<f32>,
 }
 
 #[cfg(test)]
