@@ -114,10 +114,6 @@ pub(crate) fn fill_words(
     }
 }
 
-/// Multiplier that gathers the low bits of eight bytes into the top byte of a word (see
-/// [`set_bits`]): 2^(56 − 7i) for i = 0 … 7.
-const GATHER_BYTES: u64 = 0x0102_0408_1020_4080;
-
 /// Sets bit `at + k` of `words` for every `bits[k]` that is 1 (each is 0 or 1), a word
 /// at a time: 64 bytes are gathered into a register and written once, rather than 64
 /// read-modify-writes of one word that each wait for the one before.
@@ -131,16 +127,12 @@ pub(crate) fn set_bits(words: &mut [u64], at: usize, bits: &[u8]) {
         j += 1;
     }
     rest = tail;
-    // Whole words, eight bytes at a time: read as one little-endian number, the eight
-    // 0/1 bytes sit at bits 0, 8, …, 56, and the product with [`GATHER_BYTES`] carries
-    // byte i to bit 56 + i and nothing else there (its partial products fall on distinct
-    // bits, so nothing carries), so its top byte holds the eight bits in order.
+    // Whole words.
     let mut chunks = rest.chunks_exact(64);
     for chunk in &mut chunks {
         let mut word = 0u64;
-        for (k, eight) in chunk.chunks_exact(8).enumerate() {
-            let bytes = u64::from_le_bytes(eight.try_into().unwrap_or([0; 8]));
-            word |= (bytes.wrapping_mul(GATHER_BYTES) >> 56) << (8 * k);
+        for (k, &b) in chunk.iter().enumerate() {
+            word |= u64::from(b) << k;
         }
         words[j >> 6] |= word;
         j += 64;
@@ -214,10 +206,10 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     /// Every offset into a word and every length up to three words, against setting the
-    /// bits one at a time: the gathered words must hold exactly the 1 bytes, and keep the
-    /// bits that were set before.
+    /// bits one at a time: the words must hold exactly the 1 bytes, and keep the bits
+    /// that were set before.
     #[test]
-    fn gathered_words_hold_the_bits_one_by_one_would_set() {
+    fn whole_words_hold_the_bits_one_by_one_would_set() {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         for at in 0..70 {
             for len in [0, 1, 7, 8, 9, 63, 64, 65, 127, 128, 130, 191] {
