@@ -356,10 +356,7 @@ fn fit_or_decide(
         };
     }
     let poly_residual = drawn_residual(buf, &poly);
-    if !weights || poly_residual <= opts.tolerance {
-        return Piece::polynomial(poly, poly_residual);
-    }
-    with_weights(buf, start, end, opts, poly, poly_residual)
+    with_weights(buf, start, end, opts, weights, poly, poly_residual)
 }
 
 /// Data points from which a run's decision ([`decide_piece`]) fits its polynomial cubic
@@ -436,25 +433,24 @@ fn decide_on_subsample(
             ..Piece::polynomial(poly, poly_residual)
         };
     }
-    if !weights {
-        return Piece::polynomial(poly, poly_residual);
-    }
-    with_weights(buf, start, end, opts, poly, poly_residual)
+    with_weights(buf, start, end, opts, weights, poly, poly_residual)
 }
 
-/// The piece of a run (`buf`) whose polynomial cubic `poly` misses the tolerance by
-/// `poly_residual`: the weight search's rational cubic where it is closer, else `poly`.
+/// The piece of a run (`buf`) whose polynomial cubic `poly` is `poly_residual` from its
+/// points: `poly` when that is within the tolerance or `weights` is false, else the
+/// weight search's rational cubic where it is closer.
 fn with_weights(
     buf: &[Point],
     start: EndCondition,
     end: EndCondition,
     opts: &LsqOptions,
+    weights: bool,
     poly: SegmentSolution,
     poly_residual: f64,
 ) -> Piece {
     // Weights bend a cubic only so far: past a few tolerances the weight search is
     // not worth its cost, and the segment will be split anyway.
-    if poly_residual > 4.0 * opts.tolerance {
+    if !weights || poly_residual <= opts.tolerance || poly_residual > 4.0 * opts.tolerance {
         return Piece::polynomial(poly, poly_residual);
     }
     // Start from the polynomial fit's feet, which are close to the rational curve's:
@@ -500,11 +496,7 @@ fn finish_piece(
     let settings = polynomial_settings(opts);
     let poly = resume_polynomial(buf, start, end, &settings, piece.solution.clone(), stopped);
     let poly_residual = drawn_residual(buf, &poly);
-    let finished = if weights && poly_residual > opts.tolerance {
-        with_weights(buf, start, end, opts, poly, poly_residual)
-    } else {
-        Piece::polynomial(poly, poly_residual)
-    };
+    let finished = with_weights(buf, start, end, opts, weights, poly, poly_residual);
     if finished.max_residual <= opts.tolerance {
         *piece = finished;
     }
